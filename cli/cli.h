@@ -1,0 +1,32 @@
+/* The frig command: shared pieces of the subcommands. Uses only the public headers. */
+#ifndef FRIG_CLI_H
+#define FRIG_CLI_H
+
+#include <frig/frig.h>
+
+typedef struct cli_env {
+    frig_ctx *ctx;
+    int quiet;
+    int progress_shown;
+} cli_env;
+
+typedef struct cli_command {
+    const char *name;
+    int (*run)(cli_env *env, int argc, char **argv);
+    const char *summary;
+    const char *usage; /* full help text */
+} cli_command;
+
+/* Exit codes. */
+enum { CLI_OK = 0, CLI_FAILED = 1, CLI_USAGE = 2 };
+
+/* Print "frig CMD: message" to stderr; returns CLI_USAGE or CLI_FAILED for chaining. */
+int cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+int cli_fail(cli_env *env, const char *cmd);  /* the context's error sentence */
+void cli_note(cli_env *env, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Subcommands. */
+int cmd_info(cli_env *env, int argc, char **argv);
+extern const char cmd_info_usage[];
+
+#endif

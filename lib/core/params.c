@@ -1,0 +1,128 @@
+/* The table of enumerated parameters: names, defaults, bounds. Adding an option means
+ * adding a row here and a value to enum frig_param; nothing else changes. */
+#include <math.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "core/params.h"
+
+typedef struct param_row {
+    frig_param id;
+    const char *name;
+    double def, lo, hi;
+    int integer;
+    const char *help;
+} param_row;
+
+static const param_row rows[] = {
+    {FRIG_PARAM_IMAGE_MAX_PIXELS, "image.max_pixels", 1e8, 1, 1e10, 1,
+     "refuse images with more pixels than this, before decoding"},
+    {FRIG_PARAM_IMAGE_JPEG_QUALITY, "image.jpeg_quality", 92, 1, 100, 1, "quality of the JPEGs libfrig writes"},
+
+    {FRIG_PARAM_DETECT_SCALE_FACTOR, "detect.scale_factor", 1.1, 1.01, 2.0, 0,
+     "step between scales of the face detector's pyramid"},
+    {FRIG_PARAM_DETECT_MIN_NEIGHBORS, "detect.min_neighbors", 3, 0, 100, 1,
+     "overlapping raw detections needed to keep a face"},
+    {FRIG_PARAM_DETECT_MIN_FACE, "detect.min_face", 30, 10, 100000, 1, "smallest face side searched, in pixels"},
+    {FRIG_PARAM_DETECT_PROFILE, "detect.profile", 1, 0, 1, 1,
+     "also run the profile cascade on the photo and its mirror image"},
+    {FRIG_PARAM_DETECT_MAX_SIDE, "detect.max_side", 1600, 64, 100000, 1,
+     "detect faces on a copy whose longer side is at most this (landmarks use full resolution)"},
+
+    {FRIG_PARAM_FILTER_OMEGA, "filter.omega", 2.0, 0.1, 100, 0, "drop photos with error > mean + omega * std"},
+    {FRIG_PARAM_FILTER_W_TEXTURE, "filter.w_texture", 1.0, 0, 1e6, 0, "weight of the texture error (w_t)"},
+    {FRIG_PARAM_FILTER_W_SHAPE, "filter.w_shape", 0.1, 0, 1e6, 0, "weight of the shape error (w_s)"},
+    {FRIG_PARAM_FILTER_MAX_ROUNDS, "filter.max_rounds", 10, 1, 1000, 1, "most rounds of outlier removal"},
+    {FRIG_PARAM_FILTER_TEXTURE_SIZE, "filter.texture_size", 64, 16, 512, 1, "side of the warped face texture"},
+    {FRIG_PARAM_FILTER_PCA_ENERGY, "filter.pca_energy", 0.98, 0.5, 1.0, 0,
+     "share of variance kept by the shape and texture PCA models"},
+
+    {FRIG_PARAM_FIT_W_EXP, "fit.w_exp", 5, 0, 1e6, 0, "weight of the expression prior (eq. 4.8 w2)"},
+    {FRIG_PARAM_FIT_W_SPARSE, "fit.w_sparse", 10, 0, 1e6, 0, "weight of the L1 expression sparsity (eq. 4.8 w3)"},
+    {FRIG_PARAM_FIT_W_ID, "fit.w_id", 10, 0, 1e6, 0, "weight of the identity prior (eq. 4.8 w1)"},
+    {FRIG_PARAM_FIT_ROUNDS, "fit.rounds", 3, 1, 20, 1, "rounds of progressive reconstruction"},
+    {FRIG_PARAM_FIT_SUBSET_FIRST, "fit.subset_first", 0.4, 0.01, 1, 0, "fraction of photos in the first joint fit"},
+    {FRIG_PARAM_FIT_SUBSET_STEP, "fit.subset_step", 0.2, 0, 1, 0, "fraction added in each later round"},
+    {FRIG_PARAM_FIT_SCORE_W_ID, "fit.score_w_id", 1.0, 0, 1e6, 0, "weight of identity fitness in the ranking"},
+    {FRIG_PARAM_FIT_SCORE_W_TEX, "fit.score_w_tex", 10.0, 0, 1e6, 0,
+     "weight of photo-consistency in the ranking"},
+    {FRIG_PARAM_FIT_IDENTITY_MODES, "fit.identity_modes", 100, 0, 1000, 1, "identity modes fitted"},
+    {FRIG_PARAM_FIT_ITERATIONS, "fit.iterations", 30, 1, 1000, 1, "Gauss-Newton iterations per fit"},
+    {FRIG_PARAM_FIT_PERSPECTIVE, "fit.perspective", 1, 0, 1, 1,
+     "1: perspective camera with fitted focal length; 0: weak perspective"},
+
+    {FRIG_PARAM_SYNTH_MAX_YAW, "synth.max_yaw", 60, 0, 90, 0, "largest head yaw of synthetic photos, degrees"},
+    {FRIG_PARAM_SYNTH_OFFSET_MM, "synth.offset_mm", 4, 0, 50, 0,
+     "amplitude of the personal displacement outside the model's span, mm"},
+    {FRIG_PARAM_SYNTH_FAILURE_RATE, "synth.failure_rate", 0.1, 0, 1, 0,
+     "share of synthetic photos that are intended failures"},
+    {FRIG_PARAM_SYNTH_IMAGE_SIZE, "synth.image_size", 512, 64, 8192, 1, "side of synthetic photos, pixels"},
+};
+
+#define N_ROWS (sizeof rows / sizeof rows[0])
+_Static_assert(N_ROWS <= FR_PARAM_MAX, "raise FR_PARAM_MAX");
+
+static int row_of(frig_param p) {
+    for (size_t i = 0; i < N_ROWS; i++)
+        if (rows[i].id == p) return (int)i;
+    return -1;
+}
+
+void fr_params_init(double *values) {
+    for (size_t i = 0; i < N_ROWS; i++) values[i] = rows[i].def;
+}
+
+size_t frig_param_count(void) { return N_ROWS; }
+frig_param frig_param_at(size_t index) { return index < N_ROWS ? rows[index].id : (frig_param)-1; }
+
+const char *frig_param_name(frig_param p) {
+    int r = row_of(p);
+    return r < 0 ? NULL : rows[r].name;
+}
+
+const char *frig_param_help(frig_param p) {
+    int r = row_of(p);
+    return r < 0 ? NULL : rows[r].help;
+}
+
+double frig_param_default(frig_param p) {
+    int r = row_of(p);
+    return r < 0 ? NAN : rows[r].def;
+}
+
+frig_status frig_param_lookup(frig_ctx *ctx, const char *name, frig_param *out) {
+    if (!name || !out) return ctx ? fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "no parameter name given")
+                                  : FRIG_ERR_INVALID_ARGUMENT;
+    for (size_t i = 0; i < N_ROWS; i++)
+        if (strcmp(rows[i].name, name) == 0) {
+            *out = rows[i].id;
+            return FRIG_OK;
+        }
+    return ctx ? fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "unknown parameter '%s' (frig help params lists them)",
+                          name)
+               : FRIG_ERR_INVALID_ARGUMENT;
+}
+
+frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param p, double value) {
+    if (!ctx) return FRIG_ERR_INVALID_ARGUMENT;
+    int r = row_of(p);
+    if (r < 0) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "unknown parameter number %d", (int)p);
+    const param_row *row = &rows[r];
+    if (!(value >= row->lo && value <= row->hi))
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "parameter %s = %g is outside [%g, %g]", row->name, value,
+                        row->lo, row->hi);
+    if (row->integer && value != floor(value))
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "parameter %s must be a whole number, not %g", row->name,
+                        value);
+    ctx->params[r] = value;
+    return FRIG_OK;
+}
+
+double frig_ctx_get_param(const frig_ctx *ctx, frig_param p) {
+    int r = row_of(p);
+    if (r < 0) return NAN;
+    return ctx ? ctx->params[r] : rows[r].def;
+}
+
+double fr_param(const frig_ctx *ctx, frig_param p) { return frig_ctx_get_param(ctx, p); }
+int fr_param_int(const frig_ctx *ctx, frig_param p) { return (int)lround(frig_ctx_get_param(ctx, p)); }

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Install what libfrig needs on Debian 12, as root or through sudo.
+#   scripts/install-deps.sh          build dependencies and the data files (dlib, OpenCV)
+#   scripts/install-deps.sh --test   also the reference tools the test suite compares against
+#                                    (dlib, OpenCV's Python module, Blender, the glTF validator)
+set -euo pipefail
+SUDO=""
+if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
+
+build_pkgs="build-essential cmake pkg-config libopenblas-dev liblapacke-dev libsuitesparse-dev
+  libpng-dev libjpeg62-turbo-dev libcjson-dev zlib1g-dev libdlib-data opencv-data"
+test_pkgs="libdlib-dev python3-opencv python3-numpy blender nodejs npm binutils abigail-tools"
+
+want="$build_pkgs"
+if [ "${1:-}" = "--test" ]; then want="$want $test_pkgs"; fi
+
+missing=""
+for p in $want; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
+done
+if [ -n "$missing" ]; then
+  echo "installing:$missing"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $missing
+fi
+
+if [ "${1:-}" = "--test" ]; then
+  # The Khronos glTF validator is an npm library; keep it in the build tree's tools folder.
+  tools="$(cd "$(dirname "$0")/.." && pwd)/build/tools"
+  if [ ! -f "$tools/node_modules/gltf-validator/package.json" ]; then
+    mkdir -p "$tools"
+    (cd "$tools" && npm install --silent --no-audit --no-fund gltf-validator@2 >/dev/null)
+  fi
+fi

@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Install to a temporary prefix and build the example against the installed library, both
+# through pkg-config and through CMake's find_package; run it. Also: only frig_ symbols
+# are exported, and the SONAME is libfrig.so.0.
+set -eu
+tmp="$FRIG_BINARY_DIR/test-tmp/cli_install"; rm -rf "$tmp"; mkdir -p "$tmp"
+prefix="$tmp/prefix"
+cmake --install "$FRIG_BINARY_DIR" --prefix "$prefix" >/dev/null
+lib="$prefix/lib/libfrig.so"
+[ -e "$prefix/lib/x86_64-linux-gnu/libfrig.so" ] && lib="$prefix/lib/x86_64-linux-gnu/libfrig.so"
+libdir=$(dirname "$lib")
+
+bad=$(nm -D --defined-only "$lib" | awk '{print $3}' | grep -v '^frig_' || true)
+if [ -n "$bad" ]; then echo "exported names without the frig_ prefix:"; echo "$bad"; exit 1; fi
+echo "exported: $(nm -D --defined-only "$lib" | wc -l) symbols, all frig_*"
+soname=$(objdump -p "$lib" | awk '/SONAME/{print $2}')
+[ "$soname" = "libfrig.so.0" ] || { echo "SONAME is '$soname'"; exit 1; }
+
+extra="${FRIG_EXAMPLE_CFLAGS:-}"
+export PKG_CONFIG_PATH="$libdir/pkgconfig"
+cc -std=c11 -Wall -Wextra -Werror $extra -o "$tmp/load_image" "$FRIG_SOURCE_DIR/examples/load_image.c" \
+  $(pkg-config --cflags --libs frig)
+# Make a small PNG with the installed command, then read it back with the example.
+"$prefix/bin/frig" --version
+LD_LIBRARY_PATH="$libdir" "$tmp/load_image" "$tmp/made.png" > "$tmp/out"
+grep -q "made.png: 64x32, 3 channels" "$tmp/out" || { cat "$tmp/out"; exit 1; }
+
+cmake -S "$FRIG_SOURCE_DIR/examples" -B "$tmp/cmake-build" -DCMAKE_PREFIX_PATH="$prefix" \
+  -DCMAKE_C_FLAGS="$extra" >/dev/null
+cmake --build "$tmp/cmake-build" >/dev/null
+LD_LIBRARY_PATH="$libdir" "$tmp/cmake-build/load_image" "$tmp/made2.png" | grep -q "64x32"
+echo "installed library: pkg-config and CMake builds of the example work"

@@ -1,0 +1,42 @@
+/* A few helpers shared by the tests: checks that count failures, finding data, skipping. */
+#ifndef FRIG_TESTING_H
+#define FRIG_TESTING_H
+
+#include <math.h>
+#include <stdio.h>
+
+extern int test_failures;
+
+#define CHECK(cond)                                                                   \
+    do {                                                                              \
+        if (!(cond)) {                                                                \
+            fprintf(stderr, "%s:%d: check failed: %s\n", __FILE__, __LINE__, #cond);  \
+            test_failures++;                                                          \
+        }                                                                             \
+    } while (0)
+
+#define CHECK_NEAR(a, b, tol)                                                                        \
+    do {                                                                                             \
+        double a_ = (a), b_ = (b);                                                                   \
+        if (!(fabs(a_ - b_) <= (tol))) {                                                             \
+            fprintf(stderr, "%s:%d: %s = %.9g, expected %.9g +- %g\n", __FILE__, __LINE__, #a, a_, b_, \
+                    (double)(tol));                                                                  \
+            test_failures++;                                                                         \
+        }                                                                                            \
+    } while (0)
+
+/* 0 when no check failed, else 1: return it from main. */
+int test_result(const char *name);
+
+/* Skip (exit code 77) with a loud message, or fail when FRIG_REQUIRE_DATA is set (CI). */
+int test_skip(const char *why);
+
+/* ../shared next to the source tree, or $FRIG_SHARED. */
+const char *test_shared_dir(void);
+/* Path inside the shared folder (static buffer, valid until the next call). */
+const char *test_shared_path(const char *rel);
+int test_file_exists(const char *path);
+/* A fresh empty temporary folder under the build tree. */
+const char *test_temp_dir(const char *name);
+
+#endif
