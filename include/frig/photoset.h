@@ -1,0 +1,95 @@
+/* libfrig photo set: the in-memory form of a workspace folder. It holds the photos, every
+ * face found in each with its box and 68 landmarks, which face is the subject, each photo's
+ * status and the reason for it, and what later stages add (filter errors, fits).
+ * On disk it is WORKSPACE/report.json (see docs/workspace.md).
+ */
+#ifndef FRIG_PHOTOSET_H
+#define FRIG_PHOTOSET_H
+
+#include "frig/frig.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+typedef struct frig_photoset frig_photoset;
+
+/* A photo's fate. */
+typedef enum frig_photo_status {
+    FRIG_PHOTO_PENDING = 0,    /* not processed yet */
+    FRIG_PHOTO_OK = 1,         /* usable so far */
+    FRIG_PHOTO_UNREADABLE = 2, /* the file could not be decoded (reason says why) */
+    FRIG_PHOTO_NO_FACE = 3,    /* no face found */
+    FRIG_PHOTO_FACE_TOO_SMALL = 4, /* faces found, but the subject is too small to use */
+    FRIG_PHOTO_OUTLIER = 5,    /* dropped by the filter stage (robust PCA, Algorithm 1) */
+    FRIG_PHOTO_FIT_FAILED = 6  /* the model fit did not converge to anything usable */
+} frig_photo_status;
+
+/* "ok", "no_face", ... (the report's spelling); NULL for an unknown value. */
+FRIG_API const char *frig_photo_status_name(frig_photo_status status);
+
+/* Where a face's box or landmarks came from. */
+typedef enum frig_face_source {
+    FRIG_FACE_FRONTAL = 0,          /* frontal cascade */
+    FRIG_FACE_PROFILE = 1,          /* profile cascade (face turned to its left) */
+    FRIG_FACE_PROFILE_MIRRORED = 2, /* profile cascade on the mirrored photo */
+    FRIG_FACE_USER = 3              /* landmarks supplied by the user (.pts / .json) */
+} frig_face_source;
+
+#define FRIG_LANDMARK_COUNT 68
+
+FRIG_API frig_status frig_photoset_create(frig_ctx *ctx, frig_photoset **out);
+FRIG_API void frig_photoset_free(frig_photoset *set);
+
+/* Read / write WORKSPACE/report.json (written atomically). load fails with
+ * FRIG_ERR_NOT_FOUND when the workspace has no report yet. */
+FRIG_API frig_status frig_photoset_load(frig_ctx *ctx, const char *workspace, frig_photoset **out);
+FRIG_API frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const char *workspace);
+
+/* ---- photos ---- */
+FRIG_API size_t frig_photoset_count(const frig_photoset *set);
+/* Add a photo by path (not read now); returns its index. */
+FRIG_API frig_status frig_photoset_add(frig_ctx *ctx, frig_photoset *set, const char *path, size_t *index);
+FRIG_API const char *frig_photoset_path(const frig_photoset *set, size_t photo);
+FRIG_API frig_photo_status frig_photoset_status(const frig_photoset *set, size_t photo);
+/* The sentence explaining the status ("" when none). */
+FRIG_API const char *frig_photoset_reason(const frig_photoset *set, size_t photo);
+FRIG_API frig_status frig_photoset_set_status(frig_ctx *ctx, frig_photoset *set, size_t photo,
+                                              frig_photo_status status, const char *reason);
+/* Upright size of the photo (0 until read). */
+FRIG_API void frig_photoset_size(const frig_photoset *set, size_t photo, int *width, int *height);
+FRIG_API frig_status frig_photoset_set_size(frig_ctx *ctx, frig_photoset *set, size_t photo, int width,
+                                            int height);
+
+/* ---- faces ---- */
+FRIG_API size_t frig_photoset_face_count(const frig_photoset *set, size_t photo);
+/* box: x, y, width, height (upright pixels); landmarks: 68 (x, y) pairs, or NULL when the
+ * face has none yet. Returns the face's index. */
+FRIG_API frig_status frig_photoset_add_face(frig_ctx *ctx, frig_photoset *set, size_t photo, const double box[4],
+                                            double score, frig_face_source source, const double *landmarks,
+                                            size_t *face);
+FRIG_API frig_status frig_photoset_clear_faces(frig_ctx *ctx, frig_photoset *set, size_t photo);
+FRIG_API frig_status frig_photoset_face_box(const frig_photoset *set, size_t photo, size_t face, double box[4]);
+FRIG_API double frig_photoset_face_score(const frig_photoset *set, size_t photo, size_t face);
+FRIG_API frig_face_source frig_photoset_face_source(const frig_photoset *set, size_t photo, size_t face);
+/* Copies 136 values (x0, y0, x1, y1, ...); FRIG_ERR_STATE when the face has no landmarks. */
+FRIG_API frig_status frig_photoset_face_landmarks(const frig_photoset *set, size_t photo, size_t face,
+                                                  double *landmarks);
+FRIG_API frig_status frig_photoset_set_face_landmarks(frig_ctx *ctx, frig_photoset *set, size_t photo,
+                                                      size_t face, const double *landmarks);
+/* The subject's face in this photo, or -1 when none is chosen. */
+FRIG_API long frig_photoset_subject(const frig_photoset *set, size_t photo);
+FRIG_API frig_status frig_photoset_set_subject(frig_ctx *ctx, frig_photoset *set, size_t photo, long face);
+
+/* ---- filter results (section 4.2, Algorithm 1) ---- */
+/* e = w_t * texture_error + w_s * shape_error for the subject face, and the round in which
+ * the photo was dropped (0 = kept). */
+FRIG_API frig_status frig_photoset_set_filter(frig_ctx *ctx, frig_photoset *set, size_t photo, double error,
+                                              double texture_error, double shape_error, int round_dropped);
+FRIG_API int frig_photoset_filter(const frig_photoset *set, size_t photo, double *error, double *texture_error,
+                                  double *shape_error, int *round_dropped); /* 0 when not filtered */
+
+#ifdef __cplusplus
+}
+#endif
+#endif /* FRIG_PHOTOSET_H */
