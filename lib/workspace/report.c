@@ -1,0 +1,227 @@
+/* WORKSPACE/report.json: the photo set on disk, one entry per photo with its fate
+ * (docs/workspace.md). Written atomically; read back with every value validated. */
+#include <stdlib.h>
+#include <string.h>
+
+#include <cJSON.h>
+
+#include "core/context.h"
+#include "io/file.h"
+#include "io/json_writer.h"
+#include "workspace/photoset.h"
+
+#define REPORT_NAME "report.json"
+#define REPORT_VERSION 1
+
+static const char *const source_names[] = {"frontal", "profile", "profile_mirrored", "user"};
+
+static void write_face(fr_json *j, const fr_face *f) {
+    fr_json_object(j, NULL);
+    fr_json_array(j, "box", 1);
+    for (int k = 0; k < 4; k++) fr_json_number(j, NULL, f->box[k]);
+    fr_json_end(j);
+    fr_json_number(j, "score", f->score);
+    fr_json_string(j, "source", source_names[f->source]);
+    if (f->has_landmarks) {
+        fr_json_array(j, "landmarks", 1);
+        for (int k = 0; k < FRIG_LANDMARK_COUNT; k++) {
+            fr_json_array(j, NULL, 1);
+            fr_json_number(j, NULL, f->landmarks[2 * k]);
+            fr_json_number(j, NULL, f->landmarks[2 * k + 1]);
+            fr_json_end(j);
+        }
+        fr_json_end(j);
+    }
+    fr_json_end(j);
+}
+
+static void write_photo(fr_json *j, const fr_photo *p) {
+    fr_json_object(j, NULL);
+    fr_json_string(j, "file", p->path);
+    fr_json_string(j, "status", frig_photo_status_name(p->status));
+    if (p->reason && *p->reason) fr_json_string(j, "reason", p->reason);
+    fr_json_int(j, "width", p->width);
+    fr_json_int(j, "height", p->height);
+    fr_json_int(j, "subject", p->subject);
+    fr_json_array(j, "faces", 0);
+    for (size_t f = 0; f < p->face_count; f++) write_face(j, &p->faces[f]);
+    fr_json_end(j);
+    if (p->filtered) {
+        fr_json_object(j, "filter");
+        fr_json_number(j, "error", p->filter_error);
+        fr_json_number(j, "texture_error", p->filter_texture_error);
+        fr_json_number(j, "shape_error", p->filter_shape_error);
+        fr_json_int(j, "round_dropped", p->filter_round);
+        fr_json_end(j);
+    }
+    fr_json_end(j);
+}
+
+frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const char *workspace) {
+    if (!set || !workspace) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_photoset_save: NULL argument");
+    frig_status s = fr_make_dirs(ctx, workspace);
+    if (s) return s;
+    char *path = fr_path_join(workspace, REPORT_NAME);
+    if (!path) return fr_nomem(ctx, "a path");
+    fr_atomic_file af;
+    s = fr_atomic_open(ctx, path, &af);
+    free(path);
+    if (s) return s;
+    size_t counts[FRIG_PHOTO_FIT_FAILED + 1] = {0};
+    for (size_t i = 0; i < set->count; i++) counts[set->photos[i].status]++;
+    fr_json j;
+    fr_json_begin(&j, af.fp);
+    fr_json_object(&j, NULL);
+    fr_json_string(&j, "format", "frig-report");
+    fr_json_int(&j, "version", REPORT_VERSION);
+    fr_json_string(&j, "frig", FRIG_VERSION_STRING);
+    fr_json_object(&j, "summary");
+    fr_json_int(&j, "photos", (long long)set->count);
+    for (int k = 0; k <= FRIG_PHOTO_FIT_FAILED; k++)
+        if (counts[k]) fr_json_int(&j, frig_photo_status_name((frig_photo_status)k), (long long)counts[k]);
+    fr_json_end(&j);
+    fr_json_array(&j, "photos", 0);
+    for (size_t i = 0; i < set->count; i++) write_photo(&j, &set->photos[i]);
+    fr_json_end(&j);
+    fr_json_end(&j);
+    fr_json_finish(&j);
+    return fr_atomic_commit(ctx, &af);
+}
+
+/* ---- reading ---- */
+
+typedef struct reader {
+    frig_ctx *ctx;
+    const char *file;
+    size_t photo;
+} reader;
+
+static frig_status bad(reader *r, const char *what) {
+    return fr_error(r->ctx, FRIG_ERR_CORRUPT, "%s: photo %zu: %s", r->file, r->photo, what);
+}
+
+static int read_numbers(const cJSON *a, double *out, int n) {
+    if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != n) return 0;
+    int k = 0;
+    for (const cJSON *e = a->child; e; e = e->next, k++) {
+        if (!cJSON_IsNumber(e)) return 0;
+        out[k] = e->valuedouble;
+    }
+    return 1;
+}
+
+static int lookup_name(const char *s, const char *const *names, int n) {
+    for (int k = 0; s && k < n; k++)
+        if (strcmp(s, names[k]) == 0) return k;
+    return -1;
+}
+
+static frig_status read_face(reader *r, frig_photoset *set, const cJSON *jf) {
+    double box[4], lm[2 * FRIG_LANDMARK_COUNT];
+    if (!read_numbers(cJSON_GetObjectItemCaseSensitive(jf, "box"), box, 4)) return bad(r, "a face box is not 4 numbers");
+    const cJSON *score = cJSON_GetObjectItemCaseSensitive(jf, "score");
+    int source = lookup_name(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jf, "source")), source_names, 4);
+    if (source < 0) return bad(r, "a face has an unknown source");
+    const cJSON *jl = cJSON_GetObjectItemCaseSensitive(jf, "landmarks");
+    int has = 0;
+    if (jl && !cJSON_IsNull(jl)) {
+        if (!cJSON_IsArray(jl) || cJSON_GetArraySize(jl) != FRIG_LANDMARK_COUNT)
+            return bad(r, "landmarks are not 68 points");
+        int k = 0;
+        for (const cJSON *e = jl->child; e; e = e->next, k++)
+            if (!read_numbers(e, lm + 2 * k, 2)) return bad(r, "a landmark is not an [x, y] pair");
+        has = 1;
+    }
+    frig_status s = frig_photoset_add_face(r->ctx, set, r->photo, box, cJSON_IsNumber(score) ? score->valuedouble : 0,
+                                           (frig_face_source)source, has ? lm : NULL, NULL);
+    if (!s) return FRIG_OK;
+    char why[256];
+    snprintf(why, sizeof why, "%s", frig_ctx_errmsg(r->ctx));
+    return bad(r, why);
+}
+
+static frig_status read_photo(reader *r, frig_photoset *set, const cJSON *jp) {
+    const char *file = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jp, "file"));
+    if (!file) return bad(r, "no \"file\"");
+    int status = lookup_name(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jp, "status")),
+                             (const char *const[]){"pending", "ok", "unreadable", "no_face", "face_too_small",
+                                                   "outlier", "fit_failed"},
+                             7);
+    if (status < 0) return bad(r, "unknown \"status\"");
+    size_t idx;
+    frig_status s = frig_photoset_add(r->ctx, set, file, &idx);
+    if (s) return s;
+    const char *reason = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jp, "reason"));
+    if ((s = frig_photoset_set_status(r->ctx, set, idx, (frig_photo_status)status, reason))) return s;
+    const cJSON *w = cJSON_GetObjectItemCaseSensitive(jp, "width"), *h = cJSON_GetObjectItemCaseSensitive(jp, "height");
+    if (cJSON_IsNumber(w) && cJSON_IsNumber(h)) {
+        if (w->valuedouble < 0 || h->valuedouble < 0 || w->valuedouble > 1e6 || h->valuedouble > 1e6)
+            return bad(r, "impossible width or height");
+        frig_photoset_set_size(r->ctx, set, idx, w->valueint, h->valueint);
+    }
+    const cJSON *faces = cJSON_GetObjectItemCaseSensitive(jp, "faces");
+    if (faces && !cJSON_IsArray(faces)) return bad(r, "\"faces\" is not an array");
+    for (const cJSON *jf = faces ? faces->child : NULL; jf; jf = jf->next)
+        if ((s = read_face(r, set, jf))) return s;
+    const cJSON *subj = cJSON_GetObjectItemCaseSensitive(jp, "subject");
+    if (cJSON_IsNumber(subj) && frig_photoset_set_subject(r->ctx, set, idx, (long)subj->valuedouble))
+        return bad(r, "\"subject\" is not one of its faces");
+    const cJSON *flt = cJSON_GetObjectItemCaseSensitive(jp, "filter");
+    if (cJSON_IsObject(flt)) {
+        const cJSON *e = cJSON_GetObjectItemCaseSensitive(flt, "error");
+        const cJSON *te = cJSON_GetObjectItemCaseSensitive(flt, "texture_error");
+        const cJSON *se = cJSON_GetObjectItemCaseSensitive(flt, "shape_error");
+        const cJSON *rd = cJSON_GetObjectItemCaseSensitive(flt, "round_dropped");
+        if (!cJSON_IsNumber(e) || !cJSON_IsNumber(rd)) return bad(r, "\"filter\" lacks error or round_dropped");
+        frig_photoset_set_filter(r->ctx, set, idx, e->valuedouble, cJSON_IsNumber(te) ? te->valuedouble : 0,
+                                 cJSON_IsNumber(se) ? se->valuedouble : 0, rd->valueint);
+    }
+    return FRIG_OK;
+}
+
+static int is_report(const cJSON *root) {
+    const char *f = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(root, "format"));
+    return f && strcmp(f, "frig-report") == 0;
+}
+
+frig_status frig_photoset_load(frig_ctx *ctx, const char *workspace, frig_photoset **out) {
+    if (!out || !workspace) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_photoset_load: NULL argument");
+    *out = NULL;
+    char *path = fr_path_join(workspace, REPORT_NAME);
+    if (!path) return fr_nomem(ctx, "a path");
+    unsigned char *data = NULL;
+    size_t size = 0;
+    frig_status s = fr_read_file(ctx, path, (size_t)1 << 30, &data, &size);
+    if (s == FRIG_ERR_NOT_FOUND)
+        fr_error(ctx, s, "%s has no %s yet (run frig detect first)", workspace, REPORT_NAME);
+    if (s) {
+        free(path);
+        return s;
+    }
+    cJSON *root = cJSON_ParseWithLength((const char *)data, size);
+    free(data);
+    frig_photoset *set = NULL;
+    reader r = {ctx, path, 0};
+    if (!root) {
+        s = fr_error(ctx, FRIG_ERR_CORRUPT, "%s: not valid JSON", path);
+    } else if (!cJSON_IsObject(root) ||
+               !is_report(root)) {
+        s = fr_error(ctx, FRIG_ERR_CORRUPT, "%s: not a frig report", path);
+    } else if (!cJSON_IsNumber(cJSON_GetObjectItemCaseSensitive(root, "version")) ||
+               cJSON_GetObjectItemCaseSensitive(root, "version")->valueint > REPORT_VERSION) {
+        s = fr_error(ctx, FRIG_ERR_UNSUPPORTED, "%s: report version is newer than this libfrig understands", path);
+    } else if (!(s = frig_photoset_create(ctx, &set))) {
+        const cJSON *photos = cJSON_GetObjectItemCaseSensitive(root, "photos");
+        if (!cJSON_IsArray(photos)) s = fr_error(ctx, FRIG_ERR_CORRUPT, "%s: no \"photos\" array", path);
+        for (const cJSON *jp = cJSON_IsArray(photos) ? photos->child : NULL; jp && !s; jp = jp->next, r.photo++)
+            s = read_photo(&r, set, jp);
+    }
+    cJSON_Delete(root);
+    free(path);
+    if (s) {
+        frig_photoset_free(set);
+        return s;
+    }
+    *out = set;
+    return FRIG_OK;
+}
