@@ -14,10 +14,12 @@ void fr_json_format_number(char buf[32], double v) {
         strcpy(buf, "0");
         return;
     }
+    char tmp[32];
     for (int prec = 6; prec <= 17; prec++) {
-        snprintf(buf, 32, "%.*g", prec, v);
-        if (strtod(buf, NULL) == v) break;
+        snprintf(tmp, sizeof tmp, "%.*g", prec, v);
+        if (strtod(tmp, NULL) == v) break;
     }
+    memcpy(buf, tmp, sizeof tmp);
     /* A locale with a decimal comma must not leak into JSON. */
     for (char *c = buf; *c; c++)
         if (*c == ',') *c = '.';
