@@ -5,6 +5,7 @@
  * clipping without splitting triangles. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/context.h"
 #include "raster/raster.h"
@@ -47,11 +48,9 @@ void fr_raster_free(fr_raster *r) {
 
 void fr_raster_clear(fr_raster *r) {
     size_t n = (size_t)r->width * (size_t)r->height;
-    for (size_t i = 0; i < n; i++) {
-        r->depth[i] = INFINITY;
-        r->tri[i] = -1;
-        r->bary[3 * i] = r->bary[3 * i + 1] = r->bary[3 * i + 2] = 0.0f;
-    }
+    for (size_t i = 0; i < n; i++) r->depth[i] = INFINITY;
+    memset(r->tri, 0xff, n * sizeof *r->tri); /* -1 */
+    memset(r->bary, 0, 3 * n * sizeof *r->bary);
 }
 
 static void cross3(const double a[3], const double b[3], double c[3]) {
@@ -60,7 +59,9 @@ static void cross3(const double a[3], const double b[3], double c[3]) {
     c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-static double norm3(const double a[3]) { return sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]); }
+static double dot3(const double a[3], const double b[3]) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
+static double min2(double a, double b) { return a < b ? a : b; }
+static double max2(double a, double b) { return a > b ? a : b; }
 
 /* Pixel range [lo, hi] covering [mn, mx] in an axis of n pixels; 0 when empty. */
 static int pixel_range(double mn, double mx, int n, int *lo, int *hi) {
@@ -73,38 +74,39 @@ static int pixel_range(double mn, double mx, int n, int *lo, int *hi) {
     return 1;
 }
 
-/* Image-space bounding box of the part of the triangle with z >= near (perspective). */
-static int perspective_bbox(const fr_camera *cam, const double P[3][3], double near, double box[4]) {
+static void project_corner(const fr_camera *cam, const double x[3], double uv[2]) {
+    uv[0] = cam->f * x[0] / x[2] + cam->cx;
+    uv[1] = cam->f * x[1] / x[2] + cam->cy;
+}
+
+/* Image-space bounding box {umin, vmin, umax, vmax} of the part of the triangle with
+ * z >= near (perspective): the corners in front and the edges' crossings of z = near. */
+static int clipped_bbox(const fr_camera *cam, const double P[3][3], double near, double box[4]) {
     double pts[6][2];
     int n = 0;
     for (int i = 0; i < 3; i++) {
         const double *a = P[i], *b = P[(i + 1) % 3];
-        if (a[2] >= near) {
-            pts[n][0] = cam->f * a[0] / a[2] + cam->cx;
-            pts[n][1] = cam->f * a[1] / a[2] + cam->cy;
-            n++;
-        }
+        if (a[2] >= near) project_corner(cam, a, pts[n++]);
         if ((a[2] < near) != (b[2] < near)) {
             double s = (near - a[2]) / (b[2] - a[2]);
-            double x = a[0] + s * (b[0] - a[0]), y = a[1] + s * (b[1] - a[1]);
-            pts[n][0] = cam->f * x / near + cam->cx;
-            pts[n][1] = cam->f * y / near + cam->cy;
-            n++;
+            double x[3] = {a[0] + s * (b[0] - a[0]), a[1] + s * (b[1] - a[1]), near};
+            project_corner(cam, x, pts[n++]);
         }
     }
     if (n == 0) return 0;
     box[0] = box[2] = pts[0][0];
     box[1] = box[3] = pts[0][1];
     for (int i = 1; i < n; i++) {
-        box[0] = fmin(box[0], pts[i][0]), box[2] = fmax(box[2], pts[i][0]);
-        box[1] = fmin(box[1], pts[i][1]), box[3] = fmax(box[3], pts[i][1]);
+        box[0] = min2(box[0], pts[i][0]), box[2] = max2(box[2], pts[i][0]);
+        box[1] = min2(box[1], pts[i][1]), box[3] = max2(box[3], pts[i][1]);
     }
     return 1;
 }
 
-int fr_raster_tri_setup(const fr_camera *cam, const float p0[3], const float p1[3], const float p2[3],
-                        const fr_raster_options *opt, int width, int height, fr_raster_tri *t) {
-    const float *p[3] = {p0, p1, p2};
+/* The set-up shared by fr_raster_tri_setup and the renderer; uv (may be NULL) holds the
+ * corners' image positions when the caller has them (used only when all are at z >= near). */
+static int tri_setup(const fr_camera *cam, const float *const p[3], const double *const uv[3],
+                     const fr_raster_options *opt, int width, int height, fr_raster_tri *t) {
     double P[3][3];
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++)
@@ -124,12 +126,15 @@ int fr_raster_tri_setup(const fr_camera *cam, const float p0[3], const float p1[
         }
         t->z[i] = p[i][2];
     }
+    t->zmin = min2(t->z[0], min2(t->z[1], t->z[2]));
+    t->zmax = max2(t->z[0], max2(t->z[1], t->z[2]));
+    if (!cam->weak && t->zmax < near) return 0;
     /* e_i is the edge opposite corner i: P_{i+1} x P_{i+2}; det = P0 . (P1 x P2) */
     double cr[3][3];
     for (int i = 0; i < 3; i++) cross3(P[(i + 1) % 3], P[(i + 2) % 3], cr[i]);
-    double det = P[0][0] * cr[0][0] + P[0][1] * cr[0][1] + P[0][2] * cr[0][2];
-    double bound = cam->weak ? 0.0 : EDGE_ON * norm3(P[0]) * norm3(P[1]) * norm3(P[2]);
-    if (!(fabs(det) > bound)) return 0;
+    double det = dot3(P[0], cr[0]);
+    double bound2 = cam->weak ? 0.0 : EDGE_ON * EDGE_ON * dot3(P[0], P[0]) * dot3(P[1], P[1]) * dot3(P[2], P[2]);
+    if (!(det * det > bound2) || det == 0.0) return 0;
     /* det < 0: counter-clockwise in the image = facing the camera */
     if (cull && det > 0.0) return 0;
     double sgn = det < 0.0 ? -1.0 : 1.0;
@@ -140,18 +145,32 @@ int fr_raster_tri_setup(const fr_camera *cam, const float p0[3], const float p1[
         t->c[i] = cam->weak ? c2 : c2 * cam->f - c0 * cam->cx - c1 * cam->cy;
         t->tie[i] = (unsigned char)(c0 > 0.0 || (c0 == 0.0 && c1 > 0.0));
     }
-    double box[4];
-    if (cam->weak) {
-        box[0] = fmin(P[0][0], fmin(P[1][0], P[2][0]));
-        box[2] = fmax(P[0][0], fmax(P[1][0], P[2][0]));
-        box[1] = fmin(P[0][1], fmin(P[1][1], P[2][1]));
-        box[3] = fmax(P[0][1], fmax(P[1][1], P[2][1]));
-    } else {
-        t->zk = cam->f * fabs(det);
-        if (!perspective_bbox(cam, P, near, box)) return 0;
+    t->zk = cam->weak ? 0.0 : cam->f * fabs(det);
+    double box[4], q[3][2];
+    if (cam->weak || t->zmin >= near) {
+        for (int i = 0; i < 3; i++) {
+            if (cam->weak)
+                q[i][0] = P[i][0], q[i][1] = P[i][1];
+            else if (uv)
+                q[i][0] = uv[i][0], q[i][1] = uv[i][1];
+            else
+                project_corner(cam, P[i], q[i]);
+        }
+        box[0] = min2(q[0][0], min2(q[1][0], q[2][0]));
+        box[2] = max2(q[0][0], max2(q[1][0], q[2][0]));
+        box[1] = min2(q[0][1], min2(q[1][1], q[2][1]));
+        box[3] = max2(q[0][1], max2(q[1][1], q[2][1]));
+    } else if (!clipped_bbox(cam, P, near, box)) {
+        return 0;
     }
     return pixel_range(box[0], box[2], width, &t->x0, &t->x1) &&
            pixel_range(box[1], box[3], height, &t->y0, &t->y1);
+}
+
+int fr_raster_tri_setup(const fr_camera *cam, const float p0[3], const float p1[3], const float p2[3],
+                        const fr_raster_options *opt, int width, int height, fr_raster_tri *t) {
+    const float *const p[3] = {p0, p1, p2};
+    return tri_setup(cam, p, NULL, opt, width, height, t);
 }
 
 /* The coverage test at pixel column u of a row whose terms b_i v + c_i are in row[]. The
@@ -174,8 +193,7 @@ static inline int sample_in_row(const fr_raster_tri *t, double u, const double r
     double zz = t->zk * inv;
     if (!(zz >= t->near)) return 0;
     /* the intersection is a convex combination of the corners: keep rounding inside */
-    double zmin = fmin(t->z[0], fmin(t->z[1], t->z[2])), zmax = fmax(t->z[0], fmax(t->z[1], t->z[2]));
-    *z = zz < zmin ? zmin : zz > zmax ? zmax : zz;
+    *z = zz < t->zmin ? t->zmin : zz > t->zmax ? t->zmax : zz;
     return 1;
 }
 
@@ -193,12 +211,34 @@ int fr_raster_tri_sample(const fr_raster_tri *t, int x, int y, double *z, double
     return 1;
 }
 
+/* Columns of row 'row' that can be inside (a superset, 1 pixel of slack per side: the exact
+ * test runs on each); lo > hi when none. */
+static void row_span(const fr_raster_tri *t, const double row[3], int *lo, int *hi) {
+    double a = *lo, b = *hi;
+    for (int i = 0; i < 3; i++) {
+        if (t->a[i] > 0.0)
+            a = max2(a, ceil(-row[i] / t->a[i]) - 1.0);
+        else if (t->a[i] < 0.0)
+            b = min2(b, floor(-row[i] / t->a[i]) + 1.0);
+        else if (row[i] < 0.0)
+            b = a - 1.0;
+    }
+    if (!(a <= b)) {
+        *hi = *lo - 1;
+        return;
+    }
+    *lo = (int)a;
+    *hi = (int)b;
+}
+
 static void draw_triangle(fr_raster *r, const fr_raster_tri *t, int32_t id) {
     for (int y = t->y0; y <= t->y1; y++) {
         double row[3];
         row_terms(t, y, row);
+        int x0 = t->x0, x1 = t->x1;
+        if (x1 - x0 > 6) row_span(t, row, &x0, &x1);
         size_t base = (size_t)y * (size_t)r->width;
-        for (int x = t->x0; x <= t->x1; x++) {
+        for (int x = x0; x <= x1; x++) {
             double z, b[3];
             if (!sample_in_row(t, (double)x, row, &z, b)) continue;
             size_t p = base + (size_t)x;
@@ -224,49 +264,71 @@ frig_status fr_raster_render(frig_ctx *ctx, fr_raster *r, const fr_camera *cam, 
     if (cam->weak ? !(cam->scale > 0.0) : !(cam->f > 0.0))
         return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "the camera's %s must be positive",
                         cam->weak ? "scale" : "focal length");
+    /* each corner is shared by ~6 triangles: project the vertices once */
+    double *uv = NULL;
+    if (!cam->weak && nv > 0) {
+        uv = malloc(2 * (size_t)nv * sizeof *uv);
+        if (!uv) return fr_nomem(ctx, "the projected vertices");
+        for (int i = 0; i < nv; i++) {
+            double x[3] = {xyz[3 * (size_t)i], xyz[3 * (size_t)i + 1], xyz[3 * (size_t)i + 2]};
+            if (x[2] > 0.0) project_corner(cam, x, uv + 2 * (size_t)i);
+        }
+    }
     fr_raster_clear(r);
     for (int k = 0; k < nt; k++) {
-        if ((k & 0xffff) == 0xffff && fr_cancelled(ctx)) return fr_check_cancel(ctx, "rendering");
+        if ((k & 0xffff) == 0xffff && fr_cancelled(ctx)) {
+            free(uv);
+            return fr_check_cancel(ctx, "rendering");
+        }
         const int32_t *tr = tris + 3 * (size_t)k;
+        const float *const p[3] = {xyz + 3 * (size_t)tr[0], xyz + 3 * (size_t)tr[1], xyz + 3 * (size_t)tr[2]};
+        const double *const q[3] = {uv ? uv + 2 * (size_t)tr[0] : NULL, uv ? uv + 2 * (size_t)tr[1] : NULL,
+                                    uv ? uv + 2 * (size_t)tr[2] : NULL};
         fr_raster_tri t;
-        if (fr_raster_tri_setup(cam, xyz + 3 * (size_t)tr[0], xyz + 3 * (size_t)tr[1], xyz + 3 * (size_t)tr[2],
-                                opt, r->width, r->height, &t))
-            draw_triangle(r, &t, k);
+        if (tri_setup(cam, p, uv ? q : NULL, opt, r->width, r->height, &t)) draw_triangle(r, &t, k);
     }
+    free(uv);
     return FRIG_OK;
+}
+
+/* Interpolate at pixel index p (covered) into out. */
+static void interpolate_at(const fr_raster *r, const int32_t *tris, size_t p, const float *attr, int dim,
+                           float *out) {
+    const int32_t *tr = tris + 3 * (size_t)r->tri[p];
+    const float *b = r->bary + 3 * p;
+    const float *a0 = attr + (size_t)tr[0] * (size_t)dim, *a1 = attr + (size_t)tr[1] * (size_t)dim,
+                *a2 = attr + (size_t)tr[2] * (size_t)dim;
+    for (int d = 0; d < dim; d++) out[d] = (float)((double)b[0] * a0[d] + (double)b[1] * a1[d] + (double)b[2] * a2[d]);
 }
 
 int fr_raster_interpolate(const fr_raster *r, const int32_t *tris, int x, int y, const float *attr, int dim,
                           float *out) {
     if (x < 0 || y < 0 || x >= r->width || y >= r->height) return 0;
     size_t p = (size_t)y * (size_t)r->width + (size_t)x;
-    int32_t k = r->tri[p];
-    if (k < 0) return 0;
-    const int32_t *tr = tris + 3 * (size_t)k;
-    const float *b = r->bary + 3 * p;
-    for (int d = 0; d < dim; d++) {
-        double s = 0.0;
-        for (int c = 0; c < 3; c++) s += (double)b[c] * attr[(size_t)tr[c] * (size_t)dim + (size_t)d];
-        out[d] = (float)s;
-    }
+    if (r->tri[p] < 0) return 0;
+    interpolate_at(r, tris, p, attr, dim, out);
     return 1;
 }
 
 void fr_raster_attribute_map(const fr_raster *r, const int32_t *tris, const float *attr, int dim, float empty,
                              float *out) {
-    for (int y = 0; y < r->height; y++)
-        for (int x = 0; x < r->width; x++) {
-            float *o = out + ((size_t)y * (size_t)r->width + (size_t)x) * (size_t)dim;
-            if (!fr_raster_interpolate(r, tris, x, y, attr, dim, o))
-                for (int d = 0; d < dim; d++) o[d] = empty;
-        }
+    size_t n = (size_t)r->width * (size_t)r->height;
+    for (size_t p = 0; p < n; p++) {
+        float *o = out + p * (size_t)dim;
+        if (r->tri[p] >= 0)
+            interpolate_at(r, tris, p, attr, dim, o);
+        else
+            for (int d = 0; d < dim; d++) o[d] = empty;
+    }
 }
 
 void fr_raster_normal_map(const fr_raster *r, const int32_t *tris, const float *normals, float *out) {
-    fr_raster_attribute_map(r, tris, normals, 3, 0.0f, out);
     size_t n = (size_t)r->width * (size_t)r->height;
-    for (size_t i = 0; i < n; i++) {
-        float *o = out + 3 * i;
+    for (size_t p = 0; p < n; p++) {
+        float *o = out + 3 * p;
+        o[0] = o[1] = o[2] = 0.0f;
+        if (r->tri[p] < 0) continue;
+        interpolate_at(r, tris, p, normals, 3, o);
         double len = sqrt((double)o[0] * o[0] + (double)o[1] * o[1] + (double)o[2] * o[2]);
         for (int d = 0; d < 3; d++) o[d] = len > 0.0 ? (float)(o[d] / len) : 0.0f;
     }

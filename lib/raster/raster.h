@@ -52,7 +52,8 @@ typedef struct fr_raster_tri {
     unsigned char tie[3]; /* e_i == 0 counts as inside (top-left rule) */
     int weak;
     double zk;            /* perspective: z = zk / sum e */
-    double z[3];          /* weak: corner depths */
+    double z[3];          /* corner depths */
+    double zmin, zmax;    /* their range (perspective depths are clamped to it) */
     double near;
     int x0, y0, x1, y1;   /* pixel bounding box, inclusive, clipped to the image */
 } fr_raster_tri;
