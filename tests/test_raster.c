@@ -231,6 +231,18 @@ static void test_plane_interpolation(void) {
     printf("tilted plane, %ld pixels: depth relative error %.2e, barycentric error %.2e, interpolated "
            "position error %.2e m (affine screen-space interpolation would be off by %.3f m)\n",
            covered, zerr, berr, xerr, affine_err);
+    /* the whole-image attribute map agrees with the per-pixel accessor, 'empty' elsewhere */
+    float *map = malloc(sizeof(float) * 3 * w * h);
+    fr_raster_attribute_map(r, tri, xyz, 3, -7.0f, map);
+    long map_bad = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            float one[3] = {-7.0f, -7.0f, -7.0f};
+            fr_raster_interpolate(r, tri, x, y, xyz, 3, one);
+            map_bad += memcmp(one, map + 3 * (y * w + x), sizeof one) != 0;
+        }
+    CHECK(map_bad == 0);
+    free(map);
     CHECK(covered > 5000);
     CHECK(zerr < 1e-7);  /* float storage */
     CHECK(berr < 5e-7);
