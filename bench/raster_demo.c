@@ -100,7 +100,7 @@ int main(int argc, char **argv) {
     for (int i = 0; i < m.nv; i += 37) {
         double p[3] = {m.xyz[3 * i], m.xyz[3 * i + 1], m.xyz[3 * i + 2]}, uv[2];
         if (!fr_camera_project(&cam, p, uv)) continue;
-        fr_draw_disc(photo, uv[0], uv[1], 1.6, vis[i] ? green : red, 1);
+        fr_draw_disc(photo, uv[0], uv[1], vis[i] ? 1.8 : 0.9, vis[i] ? green : red, 1); /* hidden: small, red */
         x0 = (int)fmin(x0, uv[0]), y0 = (int)fmin(y0, uv[1]), x1 = (int)fmax(x1, uv[0]), y1 = (int)fmax(y1, uv[1]);
     }
     fr_draw_rect(photo, x0 - 4, y0 - 4, x1 + 4, y1 + 4, 2, yellow);
