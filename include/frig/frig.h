@@ -166,5 +166,7 @@ FRIG_API frig_status frig_param_lookup(frig_ctx *ctx, const char *name, frig_par
 #endif
 
 #include "frig/image.h"
+#include "frig/model.h"
+#include "frig/rig.h"
 
 #endif /* FRIG_FRIG_H */
