@@ -28,5 +28,7 @@ void cli_note(cli_env *env, const char *fmt, ...) __attribute__((format(printf, 
 /* Subcommands. */
 int cmd_info(cli_env *env, int argc, char **argv);
 extern const char cmd_info_usage[];
+int cmd_model(cli_env *env, int argc, char **argv);
+extern const char cmd_model_usage[];
 
 #endif

@@ -29,6 +29,6 @@ if [ "${1:-}" = "--test" ]; then
   tools="$(cd "$(dirname "$0")/.." && pwd)/build/tools"
   if [ ! -f "$tools/node_modules/gltf-validator/package.json" ]; then
     mkdir -p "$tools"
-    (cd "$tools" && npm install --silent --no-audit --no-fund gltf-validator@2 >/dev/null)
+    (cd "$tools" && npm install --silent --no-audit --no-fund gltf-validator@2.0.0-dev.3.10 >/dev/null)
   fi
 fi

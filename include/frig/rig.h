@@ -46,6 +46,11 @@ FRIG_API const char *frig_rig_arkit_name(const frig_rig *rig, int k);
 FRIG_API int frig_arkit_name_count(void);
 FRIG_API const char *frig_arkit_name(int i);
 FRIG_API int frig_rig_provides_arkit(const frig_rig *rig, const char *arkit_name);
+/* The blendshapes the exporters write, in their order: the ARKit names the rig provides in
+ * ARKit's order (split halves summed into one), then the shapes ARKit lacks in rig order.
+ * Index i in 0 .. frig_rig_target_count()-1. */
+FRIG_API int frig_rig_target_count(const frig_rig *rig);
+FRIG_API const char *frig_rig_target_name(const frig_rig *rig, int i);
 
 /* glTF 2.0 binary (.glb): positions in metres, normals, UVs, indices; one morph target per
  * ARKit-named blendshape (mesh.extras.targetNames); separate primitives per material group

@@ -57,17 +57,32 @@ int frig_rig_provides_arkit(const frig_rig *rig, const char *arkit_name) {
     return 0;
 }
 
-/* Add the rig shapes named 'name' (in ARKit spelling) into a new export slot. */
-static void add_group(const frig_rig *rig, const char *name, fr_export_shapes *out) {
-    size_t n3 = 3 * (size_t)rig->topo.vertex_count;
-    float *dst = out->deltas + n3 * (size_t)out->count;
-    memset(dst, 0, n3 * sizeof *dst);
-    for (int k = 0; k < rig->shape_count; k++) {
-        if (strcmp(frig_rig_arkit_name(rig, k), name) != 0) continue;
-        const float *src = rig->deltas + n3 * (size_t)k;
-        for (size_t i = 0; i < n3; i++) dst[i] += src[i];
-    }
-    out->names[out->count++] = name;
+/* The exported names in order: ARKit's order first, then the shapes ARKit lacks in rig order.
+ * names has room for shape_count entries. */
+static int target_names(const frig_rig *rig, const char **names) {
+    int n = 0;
+    for (int i = 0; i < ARKIT_COUNT; i++)
+        if (frig_rig_provides_arkit(rig, arkit[i])) names[n++] = arkit[i];
+    for (int k = 0; k < rig->shape_count; k++)
+        if (arkit_index_of(rig->shape_names[k]) < 0) names[n++] = rig->shape_names[k];
+    return n;
+}
+
+int frig_rig_target_count(const frig_rig *rig) {
+    if (!rig) return 0;
+    int n = 0;
+    for (int i = 0; i < ARKIT_COUNT; i++) n += frig_rig_provides_arkit(rig, arkit[i]);
+    for (int k = 0; k < rig->shape_count; k++) n += arkit_index_of(rig->shape_names[k]) < 0;
+    return n;
+}
+
+const char *frig_rig_target_name(const frig_rig *rig, int i) {
+    if (!rig || i < 0) return NULL;
+    for (int a = 0; a < ARKIT_COUNT; a++)
+        if (frig_rig_provides_arkit(rig, arkit[a]) && i-- == 0) return arkit[a];
+    for (int k = 0; k < rig->shape_count; k++)
+        if (arkit_index_of(rig->shape_names[k]) < 0 && i-- == 0) return rig->shape_names[k];
+    return NULL;
 }
 
 frig_status fr_export_shapes_make(frig_ctx *ctx, const frig_rig *rig, fr_export_shapes *out) {
@@ -80,10 +95,17 @@ frig_status fr_export_shapes_make(frig_ctx *ctx, const frig_rig *rig, fr_export_
         fr_export_shapes_free(out);
         return fr_nomem(ctx, "the exported shapes");
     }
-    for (int i = 0; i < ARKIT_COUNT; i++)
-        if (frig_rig_provides_arkit(rig, arkit[i])) add_group(rig, arkit[i], out);
-    for (int k = 0; k < rig->shape_count; k++)
-        if (arkit_index_of(rig->shape_names[k]) < 0) add_group(rig, rig->shape_names[k], out);
+    out->count = target_names(rig, out->names);
+    /* Each target sums the rig shapes that carry its name (ICT's split halves). */
+    for (int t = 0; t < out->count; t++) {
+        float *dst = out->deltas + n3 * (size_t)t;
+        memset(dst, 0, n3 * sizeof *dst);
+        for (int k = 0; k < rig->shape_count; k++) {
+            if (strcmp(frig_rig_arkit_name(rig, k), out->names[t]) != 0) continue;
+            const float *src = rig->deltas + n3 * (size_t)k;
+            for (size_t i = 0; i < n3; i++) dst[i] += src[i];
+        }
+    }
     return FRIG_OK;
 }
 
