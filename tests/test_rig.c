@@ -1,0 +1,335 @@
+/* The rig: from the model, evaluation, the native file, ARKit names, and the exports read
+ * back: OBJ through the OBJ reader, the .glb parsed here (chunks, JSON, accessors, the
+ * jawOpen target decoded), PLY bytes. */
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <cJSON.h>
+
+#include "core/context.h"
+#include "model/model.h"
+#include "model/obj_reader.h"
+#include "model_fixture.h"
+#include "rig/rig.h"
+#include "testing.h"
+
+static unsigned char *slurp(const char *path, size_t *size) {
+    *size = 0;
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return NULL;
+    fseek(fp, 0, SEEK_END);
+    long n = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    unsigned char *b = malloc((size_t)n + 1);
+    *size = fread(b, 1, (size_t)n, fp);
+    fclose(fp);
+    return b;
+}
+
+static uint32_t u32(const unsigned char *p) {
+    return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
+}
+
+static void test_from_model(frig_ctx *ctx, const frig_model *m, const frig_rig *r, const double *id) {
+    int nv = frig_model_vertex_count(m);
+    size_t n3 = 3 * (size_t)nv;
+    CHECK(frig_rig_vertex_count(r) == nv && frig_rig_shape_count(r) == 57);
+    CHECK(strcmp(frig_rig_shape_name(r, 26), frig_model_expression_name(m, 26)) == 0);
+    CHECK(frig_rig_shape_find(r, "jawOpen") == frig_model_expression_find(m, "jawOpen"));
+    float *a = malloc(sizeof *a * n3), *b = malloc(sizeof *b * n3);
+    frig_model_eval(ctx, m, id, NULL, a);
+    CHECK(memcmp(a, frig_rig_neutral(r), sizeof *a * n3) == 0);
+    CHECK(memcmp(frig_rig_shape_deltas(r, 5), frig_model_expression_deltas(m) + 5 * n3, sizeof *a * n3) == 0);
+    double w[57];
+    for (int k = 0; k < 57; k++) w[k] = (k % 7) / 7.0;
+    CHECK(frig_model_eval(ctx, m, id, w, a) == FRIG_OK);
+    CHECK(frig_rig_eval(ctx, r, w, b) == FRIG_OK);
+    double worst = 0;
+    for (size_t i = 0; i < n3; i++) worst = fmax(worst, fabs(a[i] - b[i]));
+    CHECK(worst < 1e-6);
+    free(a), free(b);
+}
+
+static void test_file(frig_ctx *ctx, const frig_rig *r, const char *tmp) {
+    char a[4200], b[4200];
+    snprintf(a, sizeof a, "%s/a.frigrig", tmp);
+    snprintf(b, sizeof b, "%s/b.frigrig", tmp);
+    frig_rig *c = NULL, *l = NULL;
+    CHECK(frig_rig_clone(ctx, r, &c) == FRIG_OK);
+    size_t n3 = 3 * (size_t)frig_rig_vertex_count(r);
+    float *x = malloc(sizeof *x * n3);
+    for (size_t i = 0; i < n3; i++) x[i] = frig_rig_neutral(r)[i] * 1.01f;
+    CHECK(frig_rig_set_neutral(ctx, c, x) == FRIG_OK);
+    CHECK(frig_rig_set_shape_deltas(ctx, c, 3, x) == FRIG_OK);
+    CHECK(frig_rig_neutral(r)[0] != frig_rig_neutral(c)[0]); /* the clone is its own */
+    x[7] = NAN;
+    CHECK(frig_rig_set_neutral(ctx, c, x) == FRIG_ERR_INVALID_ARGUMENT);
+    CHECK(frig_rig_set_shape_deltas(ctx, c, 57, x) == FRIG_ERR_INVALID_ARGUMENT);
+    CHECK(frig_rig_save(ctx, c, a) == FRIG_OK && frig_rig_load(ctx, a, &l) == FRIG_OK);
+    CHECK(l && frig_rig_save(ctx, l, b) == FRIG_OK);
+    size_t na, nb;
+    unsigned char *da = slurp(a, &na), *db = slurp(b, &nb);
+    CHECK(da && db && na == nb && memcmp(da, db, na) == 0);
+    CHECK(l && frig_rig_neutral(l)[0] == frig_rig_neutral(c)[0] && frig_rig_shape_deltas(l, 3)[5] == x[5]);
+    printf("rig file: %zu bytes, save -> load -> save byte-identical\n", na);
+    /* Truncated, and a model file given as a rig. */
+    FILE *fp = fopen(b, "wb");
+    fwrite(da, 1, na / 2, fp);
+    fclose(fp);
+    frig_rig *bad = NULL;
+    CHECK(frig_rig_load(ctx, b, &bad) == FRIG_ERR_TRUNCATED && bad == NULL);
+    CHECK(frig_rig_load(ctx, fixture_model_path(), &bad) == FRIG_ERR_CORRUPT);
+    CHECK(strstr(frig_ctx_errmsg(ctx), "not a libfrig FRIGRIG file") != NULL);
+    free(da), free(db), free(x);
+    frig_rig_free(c);
+    frig_rig_free(l);
+}
+
+static void test_arkit(frig_ctx *ctx, const frig_rig *r) {
+    CHECK(frig_arkit_name_count() == 52);
+    CHECK(strcmp(frig_arkit_name(0), "eyeBlinkLeft") == 0 && strcmp(frig_arkit_name(51), "tongueOut") == 0);
+    CHECK(frig_arkit_name(52) == NULL);
+    CHECK(strcmp(frig_rig_arkit_name(r, frig_rig_shape_find(r, "eyeBlink_L")), "eyeBlinkLeft") == 0);
+    CHECK(strcmp(frig_rig_arkit_name(r, frig_rig_shape_find(r, "mouthLowerDown_R")), "mouthLowerDownRight") == 0);
+    CHECK(strcmp(frig_rig_arkit_name(r, frig_rig_shape_find(r, "browInnerUp_R")), "browInnerUp") == 0);
+    CHECK(strcmp(frig_rig_arkit_name(r, frig_rig_shape_find(r, "cheekPuff_L")), "cheekPuff") == 0);
+    CHECK(strcmp(frig_rig_arkit_name(r, frig_rig_shape_find(r, "jawOpen")), "jawOpen") == 0);
+    CHECK(strcmp(frig_rig_arkit_name(r, frig_rig_shape_find(r, "cheekRaiser_L")), "cheekRaiser_L") == 0);
+    int provided = 0;
+    for (int i = 0; i < 52; i++) provided += frig_rig_provides_arkit(r, frig_arkit_name(i));
+    CHECK(provided == 51 && !frig_rig_provides_arkit(r, "tongueOut") && frig_rig_provides_arkit(r, "cheekPuff"));
+    CHECK(frig_rig_target_count(r) == 55);
+    CHECK(strcmp(frig_rig_target_name(r, 43), "browInnerUp") == 0 && strcmp(frig_rig_target_name(r, 54), "PupilDilate_R") == 0);
+    fr_export_shapes e;
+    CHECK(fr_export_shapes_make(ctx, r, &e) == FRIG_OK);
+    CHECK(e.count == 55);
+    size_t n3 = 3 * (size_t)frig_rig_vertex_count(r);
+    const float *bl = frig_rig_shape_deltas(r, frig_rig_shape_find(r, "browInnerUp_L"));
+    const float *br = frig_rig_shape_deltas(r, frig_rig_shape_find(r, "browInnerUp_R"));
+    int sums = 1;
+    for (size_t i = 0; i < n3; i++) sums &= e.deltas[43 * n3 + i] == bl[i] + br[i];
+    CHECK(sums && strcmp(e.names[43], "browInnerUp") == 0);
+    for (int t = 0; t < e.count; t++) CHECK(strcmp(e.names[t], frig_rig_target_name(r, t)) == 0);
+    fr_export_shapes_free(&e);
+}
+
+/* Re-read neutral.obj, jawOpen.obj and browInnerUp.obj with the OBJ reader. */
+static void test_obj(frig_ctx *ctx, const frig_rig *r, const char *dir) {
+    CHECK(frig_rig_save_obj(ctx, r, dir) == FRIG_OK);
+    const fr_topology *t = &r->topo;
+    size_t n3 = 3 * (size_t)t->vertex_count;
+    const char *names[] = {"neutral", "jawOpen", "browInnerUp"};
+    for (int f = 0; f < 3; f++) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s/%s.obj", dir, names[f]);
+        size_t size;
+        unsigned char *text = slurp(path, &size);
+        fr_obj o;
+        char err[512];
+        CHECK(text && fr_obj_parse((const char *)text, size, path, &o, err, sizeof err) == FRIG_OK);
+        free(text);
+        CHECK(o.vertex_count == t->vertex_count && o.polygon_count == t->polygon_count && o.uv_count == t->uv_count);
+        CHECK(memcmp(o.corners, t->poly_corners, sizeof(int32_t) * (size_t)t->corner_count) == 0);
+        CHECK(memcmp(o.corner_uvs, t->poly_uvs, sizeof(int32_t) * (size_t)t->corner_count) == 0);
+        CHECK(memcmp(o.materials, t->poly_materials, sizeof(int32_t) * (size_t)t->polygon_count) == 0);
+        CHECK(o.mtllib && strcmp(o.mtllib, "frig.mtl") == 0);
+        double worst = 0;
+        for (size_t i = 0; i < n3; i++) {
+            double want = r->neutral[i];
+            if (f == 1) want += frig_rig_shape_deltas(r, frig_rig_shape_find(r, "jawOpen"))[i];
+            if (f == 2)
+                want += (double)frig_rig_shape_deltas(r, frig_rig_shape_find(r, "browInnerUp_L"))[i] +
+                        frig_rig_shape_deltas(r, frig_rig_shape_find(r, "browInnerUp_R"))[i];
+            worst = fmax(worst, fabs(o.positions[i] - want));
+        }
+        printf("OBJ %s re-read: max error %.2g m\n", names[f], worst);
+        CHECK(worst < 1e-7);
+        fr_obj_free(&o);
+    }
+}
+
+typedef struct glb {
+    unsigned char *file;
+    size_t size;
+    cJSON *json;
+    const unsigned char *bin;
+    size_t bin_size;
+} glb;
+
+static const cJSON *item(const cJSON *o, const char *k) { return cJSON_GetObjectItemCaseSensitive(o, k); }
+static int num(const cJSON *o, const char *k) { return (int)cJSON_GetNumberValue(item(o, k)); }
+
+/* Accessor a as 'count' VEC3 floats (dense, sparse or all zero) into out. */
+static void read_vec3(const glb *g, int a, float *out, int count) {
+    const cJSON *acc = cJSON_GetArrayItem(item(g->json, "accessors"), a);
+    const cJSON *views = item(g->json, "bufferViews");
+    CHECK(num(acc, "count") == count && strcmp(item(acc, "type")->valuestring, "VEC3") == 0);
+    memset(out, 0, sizeof *out * 3 * (size_t)count);
+    if (item(acc, "bufferView")) {
+        const cJSON *v = cJSON_GetArrayItem(views, num(acc, "bufferView"));
+        CHECK(num(v, "byteLength") == 12 * count);
+        memcpy(out, g->bin + num(v, "byteOffset"), 12 * (size_t)count);
+    }
+    const cJSON *sp = item(acc, "sparse");
+    if (sp) {
+        int n = num(sp, "count"), wide = num(item(sp, "indices"), "componentType") == 5125;
+        const cJSON *iv = cJSON_GetArrayItem(views, num(item(sp, "indices"), "bufferView"));
+        const cJSON *vv = cJSON_GetArrayItem(views, num(item(sp, "values"), "bufferView"));
+        const unsigned char *ip = g->bin + num(iv, "byteOffset"), *vp = g->bin + num(vv, "byteOffset");
+        for (int i = 0; i < n; i++) {
+            uint32_t k = wide ? u32(ip + 4 * i) : (uint32_t)(ip[2 * i] | ip[2 * i + 1] << 8);
+            CHECK(k < (uint32_t)count);
+            if (k < (uint32_t)count) memcpy(out + 3 * k, vp + 12 * (size_t)i, 12);
+        }
+    }
+    /* min/max are those of the data. */
+    const cJSON *mn = item(acc, "min"), *mx = item(acc, "max");
+    CHECK(mn && mx);
+    for (int d = 0; d < 3 && mn && mx; d++) {
+        float lo = out[d], hi = out[d];
+        for (int i = 0; i < count; i++) lo = fminf(lo, out[3 * i + d]), hi = fmaxf(hi, out[3 * i + d]);
+        CHECK((float)cJSON_GetArrayItem(mn, d)->valuedouble == lo && (float)cJSON_GetArrayItem(mx, d)->valuedouble == hi);
+    }
+}
+
+static int parse_glb(const char *path, glb *g) {
+    memset(g, 0, sizeof *g);
+    g->file = slurp(path, &g->size);
+    if (!g->file || g->size < 28) return 0;
+    CHECK(u32(g->file) == 0x46546C67u && u32(g->file + 4) == 2 && u32(g->file + 8) == g->size);
+    uint32_t jlen = u32(g->file + 12);
+    CHECK(u32(g->file + 16) == 0x4E4F534Au && jlen % 4 == 0);
+    g->json = cJSON_ParseWithLength((const char *)g->file + 20, jlen);
+    g->bin = g->file + 20 + jlen + 8;
+    g->bin_size = u32(g->file + 20 + jlen);
+    CHECK(u32(g->file + 20 + jlen + 4) == 0x004E4942u && 28 + jlen + g->bin_size == g->size);
+    return g->json != NULL;
+}
+
+/* The expected primitive vertices: distinct (vertex, uv) pairs of the material's triangles
+ * in order of first use. */
+static int expected_vertices(const fr_topology *t, int material, int32_t *vmap, int32_t *uvmap) {
+    int n = 0;
+    for (int i = 0; i < t->triangle_count; i++) {
+        if (t->triangle_materials[i] != material) continue;
+        for (int c = 0; c < 3; c++) {
+            int32_t v = t->triangles[3 * i + c], uv = t->triangle_uvs[3 * i + c], j;
+            for (j = n - 1; j >= 0 && !(vmap[j] == v && uvmap[j] == uv); j--) {
+                if (n - j > 64) { /* long scan: fall back to a full search */
+                    for (j = 0; j < n && !(vmap[j] == v && uvmap[j] == uv); j++) {}
+                    if (j == n) j = -1;
+                    break;
+                }
+            }
+            if (j < 0) vmap[n] = v, uvmap[n] = uv, n++;
+        }
+    }
+    return n;
+}
+
+static void test_gltf(frig_ctx *ctx, const frig_rig *r, const char *tmp) {
+    char a[4200], b[4200];
+    snprintf(a, sizeof a, "%s/rig.glb", tmp);
+    snprintf(b, sizeof b, "%s/again.glb", tmp);
+    CHECK(frig_rig_save_gltf(ctx, r, a) == FRIG_OK && frig_rig_save_gltf(ctx, r, b) == FRIG_OK);
+    glb g;
+    if (!parse_glb(a, &g)) {
+        CHECK(!"glb parses");
+        return;
+    }
+    size_t nb;
+    unsigned char *again = slurp(b, &nb);
+    CHECK(again && nb == g.size && memcmp(again, g.file, nb) == 0); /* deterministic bytes */
+    free(again);
+    CHECK(strcmp(item(item(g.json, "asset"), "version")->valuestring, "2.0") == 0);
+    const cJSON *mesh = cJSON_GetArrayItem(item(g.json, "meshes"), 0);
+    const cJSON *names = item(item(mesh, "extras"), "targetNames");
+    CHECK(cJSON_GetArraySize(names) == 55 && cJSON_GetArraySize(item(mesh, "weights")) == 55);
+    for (int i = 0; i < cJSON_GetArraySize(names); i++)
+        CHECK(strcmp(cJSON_GetArrayItem(names, i)->valuestring, frig_rig_target_name(r, i)) == 0);
+    int jaw = 17;
+    CHECK(strcmp(cJSON_GetArrayItem(names, jaw)->valuestring, "jawOpen") == 0);
+    const cJSON *prims = item(mesh, "primitives");
+    CHECK(cJSON_GetArraySize(prims) == 12);
+    const fr_topology *t = &r->topo;
+    int32_t *vmap = malloc(sizeof *vmap * 3 * (size_t)t->triangle_count), *uvmap = malloc(sizeof *uvmap * 3 * (size_t)t->triangle_count);
+    float *pos = malloc(sizeof *pos * 9 * (size_t)t->triangle_count), *d = malloc(sizeof *d * 9 * (size_t)t->triangle_count);
+    const float *jd = frig_rig_shape_deltas(r, frig_rig_shape_find(r, "jawOpen"));
+    int triangles = 0, vertices = 0, mismatches = 0;
+    const cJSON *p;
+    cJSON_ArrayForEach(p, prims) {
+        int mat = num(p, "material");
+        const char *mname = item(cJSON_GetArrayItem(item(g.json, "materials"), mat), "name")->valuestring;
+        int m = 0;
+        while (m < t->material_count && strcmp(t->material_names[m], mname) != 0) m++;
+        int n = expected_vertices(t, m, vmap, uvmap);
+        const cJSON *attr = item(p, "attributes");
+        const cJSON *idx = cJSON_GetArrayItem(item(g.json, "accessors"), num(p, "indices"));
+        triangles += num(idx, "count") / 3;
+        vertices += n;
+        CHECK(cJSON_GetArraySize(item(p, "targets")) == 55);
+        read_vec3(&g, num(attr, "POSITION"), pos, n);
+        read_vec3(&g, num(cJSON_GetArrayItem(item(p, "targets"), jaw), "POSITION"), d, n);
+        for (int i = 0; i < n; i++)
+            for (int k = 0; k < 3; k++)
+                mismatches += pos[3 * i + k] != r->neutral[3 * vmap[i] + k] || d[3 * i + k] != jd[3 * vmap[i] + k];
+    }
+    printf("glb: %zu bytes, %d primitives, %d triangles, %d vertices, %d mismatching jawOpen values\n", g.size,
+           cJSON_GetArraySize(prims), triangles, vertices, mismatches);
+    CHECK(triangles == t->triangle_count && mismatches == 0);
+    free(vmap), free(uvmap), free(pos), free(d);
+    cJSON_Delete(g.json);
+    free(g.file);
+}
+
+static void test_ply(frig_ctx *ctx, const char *tmp) {
+    char path[4200];
+    snprintf(path, sizeof path, "%s/cloud.ply", tmp);
+    float xyz[6] = {1, 2, 3, -1, 0.5f, 0}, n[6] = {0, 0, 1, 1, 0, 0}, c[2] = {0.25f, 1};
+    CHECK(frig_save_ply(ctx, path, 2, xyz, n, c) == FRIG_OK);
+    size_t size;
+    unsigned char *b = slurp(path, &size);
+    const char *end = b ? strstr((const char *)b, "end_header\n") : NULL;
+    CHECK(end && strstr((const char *)b, "format binary_little_endian 1.0\n") &&
+          strstr((const char *)b, "element vertex 2\n") && strstr((const char *)b, "property float confidence\n"));
+    if (end) {
+        size_t h = (size_t)(end - (const char *)b) + 11;
+        CHECK(size == h + 2 * 7 * 4);
+        float v[14];
+        memcpy(v, b + h, sizeof v);
+        CHECK(v[0] == 1 && v[5] == 1 && v[6] == 0.25f && v[7] == -1 && v[13] == 1);
+    }
+    free(b);
+    CHECK(frig_save_ply(ctx, path, 2, xyz, NULL, NULL) == FRIG_OK);
+    b = slurp(path, &size);
+    CHECK(b && !strstr((const char *)b, "nx") && size == (size_t)(strstr((const char *)b, "end_header\n") - (char *)b) + 11 + 24);
+    free(b);
+}
+
+int main(void) {
+    frig_ctx *ctx = frig_ctx_create();
+    test_ply(ctx, test_temp_dir("rig_ply"));
+    frig_model *m = fixture_model(ctx);
+    if (!m) {
+        frig_ctx_free(ctx);
+        return test_skip("no ICT-FaceKit model (../shared/ict-facekit)");
+    }
+    double id[100] = {0};
+    id[0] = 1.5, id[7] = -2, id[99] = 0.5;
+    frig_rig *r = NULL;
+    CHECK(frig_rig_from_model(ctx, m, id, &r) == FRIG_OK);
+    if (r) {
+        test_from_model(ctx, m, r, id);
+        frig_model_free(m); /* the rig stands alone */
+        m = NULL;
+        test_file(ctx, r, test_temp_dir("rig_file"));
+        test_arkit(ctx, r);
+        test_obj(ctx, r, test_temp_dir("rig_obj"));
+        test_gltf(ctx, r, test_temp_dir("rig_gltf"));
+    }
+    frig_rig_free(r);
+    frig_model_free(m);
+    frig_ctx_free(ctx);
+    return test_result("test_rig");
+}
