@@ -8,9 +8,12 @@ import json
 import struct
 import sys
 
+import warnings
+
 import numpy
 
 # Debian 12's Blender 3.4 importer still uses the numpy aliases numpy 1.24 removed.
+warnings.simplefilter("ignore", FutureWarning)
 for alias, value in (("bool", bool), ("int", int), ("float", float), ("object", object)):
     if not hasattr(numpy, alias):
         setattr(numpy, alias, value)
