@@ -7,7 +7,6 @@
 import json
 import struct
 import sys
-
 import warnings
 
 import numpy
