@@ -124,18 +124,6 @@ static void test_shapes(const frig_model *m, const char *dir) {
     free(neutral), free(jaw), free(id);
 }
 
-static unsigned char *slurp(const char *path, size_t *size) {
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return NULL;
-    fseek(fp, 0, SEEK_END);
-    long n = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    unsigned char *b = malloc((size_t)n + 1);
-    *size = fread(b, 1, (size_t)n, fp);
-    fclose(fp);
-    return b;
-}
-
 static void test_round_trip(frig_ctx *ctx, const frig_model *m, const char *tmp) {
     char a[4200], b[4200];
     snprintf(a, sizeof a, "%s/a.frigmodel", tmp);
@@ -145,7 +133,7 @@ static void test_round_trip(frig_ctx *ctx, const frig_model *m, const char *tmp)
     CHECK(frig_model_load(ctx, a, &l) == FRIG_OK);
     CHECK(frig_model_save(ctx, l, b) == FRIG_OK);
     size_t na = 0, nb = 0;
-    unsigned char *da = slurp(a, &na), *db = slurp(b, &nb);
+    unsigned char *da = test_read_file(a, &na), *db = test_read_file(b, &nb);
     CHECK(da && db && na == nb && na > 50000000 && memcmp(da, db, na) == 0);
     CHECK(l && memcmp(frig_model_identity_modes(l), frig_model_identity_modes(m), sizeof(float) * 3 * 26719 * 100) == 0);
     printf("model file: %zu bytes, save -> load -> save byte-identical\n", na);

@@ -14,19 +14,6 @@
 #include "rig/rig.h"
 #include "testing.h"
 
-static unsigned char *slurp(const char *path, size_t *size) {
-    *size = 0;
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return NULL;
-    fseek(fp, 0, SEEK_END);
-    long n = ftell(fp);
-    fseek(fp, 0, SEEK_SET);
-    unsigned char *b = malloc((size_t)n + 1);
-    *size = fread(b, 1, (size_t)n, fp);
-    fclose(fp);
-    return b;
-}
-
 static uint32_t u32(const unsigned char *p) {
     return (uint32_t)p[0] | (uint32_t)p[1] << 8 | (uint32_t)p[2] << 16 | (uint32_t)p[3] << 24;
 }
@@ -69,7 +56,7 @@ static void test_file(frig_ctx *ctx, const frig_rig *r, const char *tmp) {
     CHECK(frig_rig_save(ctx, c, a) == FRIG_OK && frig_rig_load(ctx, a, &l) == FRIG_OK);
     CHECK(l && frig_rig_save(ctx, l, b) == FRIG_OK);
     size_t na, nb;
-    unsigned char *da = slurp(a, &na), *db = slurp(b, &nb);
+    unsigned char *da = test_read_file(a, &na), *db = test_read_file(b, &nb);
     CHECK(da && db && na == nb && memcmp(da, db, na) == 0);
     CHECK(l && frig_rig_neutral(l)[0] == frig_rig_neutral(c)[0] && frig_rig_shape_deltas(l, 3)[5] == x[5]);
     printf("rig file: %zu bytes, save -> load -> save byte-identical\n", na);
@@ -124,7 +111,7 @@ static void test_obj(frig_ctx *ctx, const frig_rig *r, const char *dir) {
         char path[4200];
         snprintf(path, sizeof path, "%s/%s.obj", dir, names[f]);
         size_t size;
-        unsigned char *text = slurp(path, &size);
+        unsigned char *text = test_read_file(path, &size);
         fr_obj o;
         char err[512];
         CHECK(text && fr_obj_parse((const char *)text, size, path, &o, err, sizeof err) == FRIG_OK);
@@ -195,7 +182,7 @@ static void read_vec3(const glb *g, int a, float *out, int count) {
 
 static int parse_glb(const char *path, glb *g) {
     memset(g, 0, sizeof *g);
-    g->file = slurp(path, &g->size);
+    g->file = test_read_file(path, &g->size);
     if (!g->file || g->size < 28) return 0;
     CHECK(u32(g->file) == 0x46546C67u && u32(g->file + 4) == 2 && u32(g->file + 8) == g->size);
     uint32_t jlen = u32(g->file + 12);
@@ -239,7 +226,7 @@ static void test_gltf(frig_ctx *ctx, const frig_rig *r, const char *tmp) {
         return;
     }
     size_t nb;
-    unsigned char *again = slurp(b, &nb);
+    unsigned char *again = test_read_file(b, &nb);
     CHECK(again && nb == g.size && memcmp(again, g.file, nb) == 0); /* deterministic bytes */
     free(again);
     CHECK(strcmp(item(item(g.json, "asset"), "version")->valuestring, "2.0") == 0);
@@ -289,7 +276,7 @@ static void test_ply(frig_ctx *ctx, const char *tmp) {
     float xyz[6] = {1, 2, 3, -1, 0.5f, 0}, n[6] = {0, 0, 1, 1, 0, 0}, c[2] = {0.25f, 1};
     CHECK(frig_save_ply(ctx, path, 2, xyz, n, c) == FRIG_OK);
     size_t size;
-    unsigned char *b = slurp(path, &size);
+    unsigned char *b = test_read_file(path, &size);
     const char *end = b ? strstr((const char *)b, "end_header\n") : NULL;
     CHECK(end && strstr((const char *)b, "format binary_little_endian 1.0\n") &&
           strstr((const char *)b, "element vertex 2\n") && strstr((const char *)b, "property float confidence\n"));
@@ -302,7 +289,7 @@ static void test_ply(frig_ctx *ctx, const char *tmp) {
     }
     free(b);
     CHECK(frig_save_ply(ctx, path, 2, xyz, NULL, NULL) == FRIG_OK);
-    b = slurp(path, &size);
+    b = test_read_file(path, &size);
     CHECK(b && !strstr((const char *)b, "nx") && size == (size_t)(strstr((const char *)b, "end_header\n") - (char *)b) + 11 + 24);
     free(b);
 }

@@ -50,3 +50,19 @@ const char *test_temp_dir(const char *name) {
     if (system(cmd) != 0) fprintf(stderr, "cannot make %s\n", buf);
     return buf;
 }
+
+unsigned char *test_read_file(const char *path, size_t *size) {
+    *size = 0;
+    FILE *fp = fopen(path, "rb");
+    if (!fp) return NULL;
+    fseek(fp, 0, SEEK_END);
+    long n = ftell(fp);
+    fseek(fp, 0, SEEK_SET);
+    unsigned char *b = n >= 0 ? malloc((size_t)n + 1) : NULL;
+    if (b) {
+        *size = fread(b, 1, (size_t)n, fp);
+        b[*size] = 0;
+    }
+    fclose(fp);
+    return b;
+}

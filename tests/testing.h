@@ -36,6 +36,8 @@ const char *test_shared_dir(void);
 /* Path inside the shared folder (static buffer, valid until the next call). */
 const char *test_shared_path(const char *rel);
 int test_file_exists(const char *path);
+/* A whole file in a new buffer (NUL-terminated, caller frees); NULL if unreadable. */
+unsigned char *test_read_file(const char *path, size_t *size);
 /* A fresh empty temporary folder under the build tree. */
 const char *test_temp_dir(const char *name);
 

@@ -182,6 +182,16 @@ frig_status fr_container_take(frig_ctx *ctx, const fr_container *c, const char *
     return fr_error(ctx, FRIG_ERR_CORRUPT, "%s: section '%s' is missing", c->what, tag);
 }
 
+frig_status fr_container_take_all(frig_ctx *ctx, const fr_container *c, const fr_section_want *want, int count) {
+    for (int i = 0; i < count; i++) {
+        void *p;
+        frig_status s = fr_container_take(ctx, c, want[i].tag, want[i].type, want[i].count, &p);
+        if (s) return s;
+        *want[i].dst = p;
+    }
+    return FRIG_OK;
+}
+
 int fr_name_is_safe(const char *name) {
     size_t n = strlen(name);
     if (n < 1 || n > 63 || name[0] == '.') return 0;

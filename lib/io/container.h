@@ -52,6 +52,15 @@ frig_status fr_container_parse(frig_ctx *ctx, const char *what, const char magic
 frig_status fr_container_take(frig_ctx *ctx, const fr_container *c, const char *tag, fr_section_type type,
                               uint64_t count, void **data);
 
+/* Several sections at once: each wanted tag with its type and exact count, stored in *dst. */
+typedef struct fr_section_want {
+    const char *tag;
+    fr_section_type type;
+    uint64_t count;
+    const void **dst;
+} fr_section_want;
+frig_status fr_container_take_all(frig_ctx *ctx, const fr_container *c, const fr_section_want *want, int count);
+
 /* Name lists are stored as one BYTES section of NUL-terminated names, back to back. */
 frig_status fr_names_pack(frig_ctx *ctx, const char *const *names, int count, char **blob, size_t *size);
 /* Split a names section into exactly 'count' names (pointers into blob, array allocated

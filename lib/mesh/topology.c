@@ -61,12 +61,7 @@ static frig_status take_counts(frig_ctx *ctx, const fr_container *c, fr_topology
 }
 
 static frig_status take_arrays(frig_ctx *ctx, const fr_container *c, fr_topology *t) {
-    struct {
-        const char *tag;
-        fr_section_type type;
-        uint64_t count;
-        const void **dst;
-    } want[] = {
+    const fr_section_want want[] = {
         {"poly_offsets", FR_SEC_I32, (uint64_t)t->polygon_count + 1, (const void **)&t->poly_offsets},
         {"poly_corners", FR_SEC_I32, (uint64_t)t->corner_count, (const void **)&t->poly_corners},
         {"poly_uvs", FR_SEC_I32, (uint64_t)t->corner_count, (const void **)&t->poly_uvs},
@@ -78,13 +73,7 @@ static frig_status take_arrays(frig_ctx *ctx, const fr_container *c, fr_topology
         {"material_kd", FR_SEC_F32, 3 * (uint64_t)t->material_count, (const void **)&t->material_kd},
         {"regions", FR_SEC_I32, 2 * (uint64_t)t->region_count, (const void **)&t->regions},
     };
-    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
-        void *p;
-        frig_status s = fr_container_take(ctx, c, want[i].tag, want[i].type, want[i].count, &p);
-        if (s) return s;
-        *want[i].dst = p;
-    }
-    return FRIG_OK;
+    return fr_container_take_all(ctx, c, want, (int)(sizeof want / sizeof want[0]));
 }
 
 static frig_status check_polygons(frig_ctx *ctx, const fr_container *c, const fr_topology *t) {

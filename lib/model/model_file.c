@@ -102,12 +102,7 @@ static frig_status take_meta(frig_ctx *ctx, const fr_container *c, frig_model *m
 
 static frig_status take_arrays(frig_ctx *ctx, const fr_container *c, frig_model *m) {
     uint64_t n3 = 3 * (uint64_t)m->topo.vertex_count;
-    struct {
-        const char *tag;
-        fr_section_type type;
-        uint64_t count;
-        const void **dst;
-    } want[] = {
+    const fr_section_want want[] = {
         {"neutral", FR_SEC_F32, n3, (const void **)&m->neutral},
         {"identity", FR_SEC_F32, n3 * (uint64_t)m->identity_count, (const void **)&m->identity},
         {"expressions", FR_SEC_F32, n3 * (uint64_t)m->expression_count, (const void **)&m->expressions},
@@ -117,13 +112,7 @@ static frig_status take_arrays(frig_ctx *ctx, const fr_container *c, frig_model 
         {"contour_left", FR_SEC_I32, (uint64_t)m->contour_count[1], (const void **)&m->contour[1]},
         {"rigid", FR_SEC_I32, (uint64_t)m->rigid_count, (const void **)&m->rigid},
     };
-    for (size_t i = 0; i < sizeof want / sizeof want[0]; i++) {
-        void *p;
-        frig_status s = fr_container_take(ctx, c, want[i].tag, want[i].type, want[i].count, &p);
-        if (s) return s;
-        *want[i].dst = p;
-    }
-    return FRIG_OK;
+    return fr_container_take_all(ctx, c, want, (int)(sizeof want / sizeof want[0]));
 }
 
 static frig_status check_model(frig_ctx *ctx, const fr_container *c, const frig_model *m) {
