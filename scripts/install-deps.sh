@@ -16,6 +16,9 @@ if [ "${1:-}" = "--test" ]; then want="$want $test_pkgs"; fi
 
 missing=""
 for p in $want; do
+  # A Node.js from elsewhere (e.g. NodeSource's, which bundles npm and conflicts with
+  # Debian's npm package) serves as well as Debian's.
+  case "$p" in nodejs) command -v node >/dev/null && continue ;; npm) command -v npm >/dev/null && continue ;; esac
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing="$missing $p"
 done
 if [ -n "$missing" ]; then

@@ -7,6 +7,8 @@
 #include <string.h>
 #include <time.h>
 
+#include <cblas.h>
+
 #include "core/context.h"
 #include "model/model.h"
 #include "model/obj_reader.h"
@@ -161,6 +163,15 @@ static void test_eval(frig_ctx *ctx, const frig_model *m) {
     }
     printf("eval vs per-vertex sum: max error %.3g m\n", worst);
     CHECK(worst < 2e-6);
+    /* The same bytes whatever OpenBLAS's thread count. */
+    float *one = malloc(sizeof *one * n3);
+    int saved = openblas_get_num_threads();
+    openblas_set_num_threads(1);
+    CHECK(frig_model_eval(ctx, m, wi, we, one) == FRIG_OK);
+    openblas_set_num_threads(4);
+    CHECK(frig_model_eval(ctx, m, wi, we, out) == FRIG_OK && memcmp(out, one, sizeof *out * n3) == 0);
+    openblas_set_num_threads(saved);
+    free(one);
     CHECK(frig_model_eval(ctx, m, NULL, NULL, out) == FRIG_OK && memcmp(out, x, sizeof *out * n3) == 0);
     wi[3] = NAN;
     CHECK(frig_model_eval(ctx, m, wi, NULL, out) == FRIG_ERR_INVALID_ARGUMENT);
