@@ -110,7 +110,11 @@ frig_status fr_add_modes(frig_ctx *ctx, int n, int k, const float *modes, const 
         }
         w[i] = (float)weights[i];
     }
+    /* Threaded OpenBLAS sgemv sums in an order that depends on its thread count; one
+     * thread keeps the bytes fixed (80k x 100 takes about a millisecond). */
+    int saved = fr_blas_serial_begin();
     cblas_sgemv(CblasColMajor, CblasNoTrans, n, k, 1.0f, modes, n, w, 1, 1.0f, out, 1);
+    fr_blas_serial_end(saved);
     free(w);
     return FRIG_OK;
 }
