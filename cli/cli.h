@@ -25,10 +25,23 @@ int cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format
 int cli_fail(cli_env *env, const char *cmd);  /* the context's error sentence */
 void cli_note(cli_env *env, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* mkdir -p; prints the error and returns CLI_FAILED on failure. */
+int cli_make_dir(cli_env *env, const char *path);
+
+/* Open the model: 'path', else $FRIG_MODEL, else the user data folder. */
+int cli_open_model(cli_env *env, const char *cmd, const char *path, frig_model **model);
+
+/* OUT/rig.glb and the OBJ files in OUT/shapes/, and a summary of the targets on stdout. */
+int cli_export_rig(cli_env *env, const char *cmd, const frig_rig *rig, const char *out);
+
 /* Subcommands. */
 int cmd_info(cli_env *env, int argc, char **argv);
 extern const char cmd_info_usage[];
 int cmd_model(cli_env *env, int argc, char **argv);
 extern const char cmd_model_usage[];
+int cmd_fit(cli_env *env, int argc, char **argv);
+extern const char cmd_fit_usage[];
+int cmd_export(cli_env *env, int argc, char **argv);
+extern const char cmd_export_usage[];
 
 #endif

@@ -29,18 +29,6 @@ const char cmd_model_usage[] =
     "The model is --model FILE, else $FRIG_MODEL, else $XDG_DATA_HOME/frig/ict.frigmodel,\n"
     "else ~/.local/share/frig/ict.frigmodel.\n";
 
-static int mkdir_parents(const char *path) {
-    char buf[4096];
-    if (snprintf(buf, sizeof buf, "%s", path) >= (int)sizeof buf) return -1;
-    for (char *c = buf + 1; *c; c++) {
-        if (*c != '/') continue;
-        *c = 0;
-        if (mkdir(buf, 0755) != 0 && errno != EEXIST) return -1;
-        *c = '/';
-    }
-    return 0;
-}
-
 /* --model FILE or the default path into buf. */
 static int model_path(cli_env *env, const char *given, char *buf, size_t size) {
     if (given) {
@@ -48,18 +36,6 @@ static int model_path(cli_env *env, const char *given, char *buf, size_t size) {
         return CLI_OK;
     }
     if (frig_model_default_path(env->ctx, buf, size)) return cli_fail(env, "model");
-    return CLI_OK;
-}
-
-static int load_model(cli_env *env, const char *given, frig_model **m) {
-    char path[4096];
-    int rc = model_path(env, given, path, sizeof path);
-    if (rc) return rc;
-    if (frig_model_load(env->ctx, path, m)) {
-        cli_fail(env, "model");
-        fprintf(stderr, "(import one with: frig model import-ict DIR -o %s)\n", path);
-        return CLI_FAILED;
-    }
     return CLI_OK;
 }
 
@@ -77,9 +53,12 @@ static int import_ict(cli_env *env, int argc, char **argv) {
     if (rc) return rc;
     frig_model *m = NULL;
     if (frig_model_import_ict(env->ctx, dir, &m)) return cli_fail(env, "model import-ict");
-    if (mkdir_parents(path) != 0) {
+    char folder[4096];
+    snprintf(folder, sizeof folder, "%s", path);
+    char *slash = strrchr(folder, '/');
+    if (slash && slash != folder) *slash = 0;
+    if (slash && slash != folder && cli_make_dir(env, folder)) {
         frig_model_free(m);
-        fprintf(stderr, "frig model import-ict: cannot create the folder of %s (%s)\n", path, strerror(errno));
         return CLI_FAILED;
     }
     frig_status s = frig_model_save(env->ctx, m, path);
@@ -100,7 +79,7 @@ static int info(cli_env *env, int argc, char **argv) {
         else return cli_usage_error("model info", "unknown argument '%s'", argv[i]);
     }
     frig_model *m = NULL;
-    int rc = load_model(env, given, &m);
+    int rc = cli_open_model(env, "model", given, &m);
     if (rc) return rc;
     printf("vertices %d, polygons %d, triangles %d, uvs %d, materials %d\n", frig_model_vertex_count(m),
            frig_model_polygon_count(m), frig_model_triangle_count(m), frig_model_uv_count(m),
@@ -165,24 +144,6 @@ static int read_identity(const char *path, double *w, int count) {
     return rc;
 }
 
-static int export_rig(cli_env *env, const frig_rig *rig, const char *out) {
-    char path[4096];
-    if ((size_t)snprintf(path, sizeof path, "%s/shapes", out) >= sizeof path)
-        return cli_usage_error("model export", "output path too long");
-    if (frig_rig_save_obj(env->ctx, rig, path)) return cli_fail(env, "model export");
-    snprintf(path, sizeof path, "%s/rig.glb", out);
-    if (frig_rig_save_gltf(env->ctx, rig, path)) return cli_fail(env, "model export");
-    printf("%s/rig.glb and %s/shapes/ (neutral.obj + %d shapes)\n", out, out, frig_rig_target_count(rig));
-    printf("targets (%d):", frig_rig_target_count(rig));
-    for (int i = 0; i < frig_rig_target_count(rig); i++) printf(" %s", frig_rig_target_name(rig, i));
-    printf("\nARKit names not provided:");
-    int missing = 0;
-    for (int i = 0; i < frig_arkit_name_count(); i++)
-        if (!frig_rig_provides_arkit(rig, frig_arkit_name(i))) printf(" %s", frig_arkit_name(i)), missing++;
-    printf("%s\n", missing ? "" : " none");
-    return CLI_OK;
-}
-
 static int export_cmd(cli_env *env, int argc, char **argv) {
     const char *given = NULL, *identity = NULL, *out = NULL;
     for (int i = 0; i < argc; i++) {
@@ -193,7 +154,7 @@ static int export_cmd(cli_env *env, int argc, char **argv) {
     }
     if (!out) return cli_usage_error("model export", "no output folder given (-o OUT)");
     frig_model *m = NULL;
-    int rc = load_model(env, given, &m);
+    int rc = cli_open_model(env, "model", given, &m);
     if (rc) return rc;
     int k = frig_model_identity_count(m);
     double *w = calloc((size_t)k + 1, sizeof *w);
@@ -201,7 +162,7 @@ static int export_cmd(cli_env *env, int argc, char **argv) {
     if (!w) rc = cli_usage_error("model export", "out of memory");
     if (!rc && identity) rc = read_identity(identity, w, k);
     if (!rc && frig_rig_from_model(env->ctx, m, w, &rig)) rc = cli_fail(env, "model export");
-    if (!rc) rc = export_rig(env, rig, out);
+    if (!rc) rc = cli_export_rig(env, "model export", rig, out);
     frig_rig_free(rig);
     free(w);
     frig_model_free(m);

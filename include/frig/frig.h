@@ -1,172 +1,18 @@
 /* libfrig: personalized facial blendshape rigs from photos in the wild.
  *
- * This is the umbrella header: versions, statuses, the context handle that every call
- * takes, and the enumerated parameters through which every stage is configured.
- * The conventions are written down in docs/api.md.
+ * The umbrella header: the core (versions, statuses, context, parameters) and one header
+ * per concern. The conventions are written down in docs/api.md.
  *
  * Copyright (c) 2026 the libfrig authors. MIT licence (see LICENSE).
  */
 #ifndef FRIG_FRIG_H
 #define FRIG_FRIG_H
 
-#include <stddef.h>
-#include <stdint.h>
-
-#ifdef __cplusplus
-extern "C" {
-#endif
-
-/* ======================================================================================
- * STABLE API
- * ====================================================================================== */
-
-#define FRIG_VERSION_MAJOR 0
-#define FRIG_VERSION_MINOR 1
-#define FRIG_VERSION_PATCH 0
-#define FRIG_VERSION_NUMBER (FRIG_VERSION_MAJOR * 10000 + FRIG_VERSION_MINOR * 100 + FRIG_VERSION_PATCH)
-#define FRIG_VERSION_STRING "0.1.0"
-
-#if defined(FRIG_BUILDING_LIBRARY)
-#define FRIG_API __attribute__((visibility("default")))
-#else
-#define FRIG_API
-#endif
-
-/* Version of the library actually linked (compare with FRIG_VERSION_NUMBER). */
-FRIG_API unsigned frig_version_number(void);
-FRIG_API const char *frig_version_string(void);
-
-/* Every call that can fail returns one of these; the context keeps a sentence saying
- * what failed (which file, which photo, which value): frig_ctx_errmsg(). */
-typedef enum frig_status {
-    FRIG_OK = 0,
-    FRIG_ERR_INVALID_ARGUMENT = 1, /* a NULL handle, an out-of-range value, a bad option */
-    FRIG_ERR_NO_MEMORY = 2,        /* an allocation failed */
-    FRIG_ERR_IO = 3,               /* a file could not be opened, read or written */
-    FRIG_ERR_NOT_FOUND = 4,        /* a required file (model, data) does not exist */
-    FRIG_ERR_CORRUPT = 5,          /* data is malformed: a broken JPEG, a bad model file */
-    FRIG_ERR_TRUNCATED = 6,        /* data ends before it should */
-    FRIG_ERR_UNSUPPORTED = 7,      /* valid data in a form we do not handle */
-    FRIG_ERR_TOO_LARGE = 8,        /* over a configured limit (e.g. image.max_pixels) */
-    FRIG_ERR_NUMERIC = 9,          /* a factorization or solve failed (singular, not SPD) */
-    FRIG_ERR_CANCELLED = 10,       /* frig_ctx_cancel() was called */
-    FRIG_ERR_NO_FACE = 11,         /* no usable face where one was needed */
-    FRIG_ERR_TOO_FEW = 12,         /* too few usable photos for the stage */
-    FRIG_ERR_STATE = 13,           /* a stage was called before the stage it needs */
-    FRIG_ERR_INTERNAL = 14         /* a bug: please report it with the message */
-} frig_status;
-
-/* A short fixed description of a status ("corrupt data"). Never NULL. */
-FRIG_API const char *frig_strerror(frig_status status);
-
-/* ---- the context ------------------------------------------------------------------
- * A frig_ctx carries settings (threads, parameters), callbacks (log, progress), a cancel
- * flag and the last error. Use one context per thread of the caller; the library itself
- * runs parallel loops inside a call. */
-typedef struct frig_ctx frig_ctx;
-
-typedef enum frig_log_level {
-    FRIG_LOG_ERROR = 0,
-    FRIG_LOG_WARNING = 1,
-    FRIG_LOG_INFO = 2,
-    FRIG_LOG_DEBUG = 3
-} frig_log_level;
-
-/* Called with one line of text (no trailing newline). Calls are serialized by the library. */
-typedef void (*frig_log_fn)(void *user, frig_log_level level, const char *message);
-/* Called as a long loop advances: stage name ("detect", "fit.individual", ...), items done,
- * items in all. Calls are serialized by the library and come in increasing 'done' order. */
-typedef void (*frig_progress_fn)(void *user, const char *stage, size_t done, size_t total);
-
-/* Returns NULL only when out of memory. */
-FRIG_API frig_ctx *frig_ctx_create(void);
-FRIG_API void frig_ctx_free(frig_ctx *ctx);
-
-/* The last error sentence set on this context ("" if none). Valid until the next call. */
-FRIG_API const char *frig_ctx_errmsg(const frig_ctx *ctx);
-/* The status of the last failed call on this context (FRIG_OK if none). */
-FRIG_API frig_status frig_ctx_status(const frig_ctx *ctx);
-FRIG_API void frig_ctx_clear_error(frig_ctx *ctx);
-
-/* Worker threads for parallel loops; 0 (the default) means one per available core.
- * Results are identical whatever this number is. */
-FRIG_API frig_status frig_ctx_set_threads(frig_ctx *ctx, int threads);
-FRIG_API int frig_ctx_threads(const frig_ctx *ctx);
-
-/* Messages at or below max_level go to fn (default: none are delivered). */
-FRIG_API void frig_ctx_set_log(frig_ctx *ctx, frig_log_fn fn, void *user, frig_log_level max_level);
-FRIG_API void frig_ctx_set_progress(frig_ctx *ctx, frig_progress_fn fn, void *user);
-
-/* Ask running calls on this context to stop; they return FRIG_ERR_CANCELLED soon after.
- * Safe to call from another thread or a signal handler. */
-FRIG_API void frig_ctx_cancel(frig_ctx *ctx);
-/* Clear a previous cancel so the context can be used again. */
-FRIG_API void frig_ctx_reset_cancel(frig_ctx *ctx);
-
-/* ---- parameters ----------------------------------------------------------------------
- * Every stage option is an enumerated parameter with a name, a default, and bounds.
- * New parameters are appended; numbers never change meaning. All values are doubles
- * (integers and booleans included). */
-typedef enum frig_param {
-    /* images */
-    FRIG_PARAM_IMAGE_MAX_PIXELS = 100,      /* refuse images with more pixels (default 1e8) */
-    FRIG_PARAM_IMAGE_JPEG_QUALITY = 101,    /* quality of JPEGs we write (default 92) */
-
-    /* detect (section 4.2) */
-    FRIG_PARAM_DETECT_SCALE_FACTOR = 200,   /* cascade pyramid step (default 1.1) */
-    FRIG_PARAM_DETECT_MIN_NEIGHBORS = 201,  /* cascade grouping threshold (default 3) */
-    FRIG_PARAM_DETECT_MIN_FACE = 202,       /* smallest face, pixels (default 30) */
-    FRIG_PARAM_DETECT_PROFILE = 203,        /* also run the profile cascade (default 1) */
-    FRIG_PARAM_DETECT_MAX_SIDE = 204,       /* detect on a copy downscaled to this side (default 1600) */
-
-    /* filter (section 4.2, Algorithm 1) */
-    FRIG_PARAM_FILTER_OMEGA = 300,          /* drop e > mu + omega * sigma (default 2) */
-    FRIG_PARAM_FILTER_W_TEXTURE = 301,      /* w_t (default 1.0) */
-    FRIG_PARAM_FILTER_W_SHAPE = 302,        /* w_s (default 0.1) */
-    FRIG_PARAM_FILTER_MAX_ROUNDS = 303,     /* at most this many rounds (default 10) */
-    FRIG_PARAM_FILTER_TEXTURE_SIZE = 304,   /* side of the warped texture (default 64) */
-    FRIG_PARAM_FILTER_PCA_ENERGY = 305,     /* variance kept by the PCA models (default 0.98) */
-
-    /* fit (sections 4.3-4.4, Algorithm 2) */
-    FRIG_PARAM_FIT_W_EXP = 400,             /* w1, expression prior (default 5) */
-    FRIG_PARAM_FIT_W_SPARSE = 401,          /* w2, L1 sparsity (default 10) */
-    FRIG_PARAM_FIT_W_ID = 402,              /* w3, identity prior (default 10) */
-    FRIG_PARAM_FIT_ROUNDS = 403,            /* progressive rounds (default 3) */
-    FRIG_PARAM_FIT_SUBSET_FIRST = 404,      /* fraction in the first joint fit (default 0.4) */
-    FRIG_PARAM_FIT_SUBSET_STEP = 405,       /* added per round (default 0.2: 0.4, 0.6, 0.8) */
-    FRIG_PARAM_FIT_SCORE_W_ID = 406,        /* eq. 4.11 w1 (default 1.0) */
-    FRIG_PARAM_FIT_SCORE_W_TEX = 407,       /* eq. 4.11 w2 (default 10.0) */
-    FRIG_PARAM_FIT_IDENTITY_MODES = 408,    /* identity modes used (default 100) */
-    FRIG_PARAM_FIT_ITERATIONS = 409,        /* Gauss-Newton iterations per fit (default 30) */
-    FRIG_PARAM_FIT_PERSPECTIVE = 410,       /* 1: perspective camera, 0: weak perspective (default 1) */
-
-    /* synthetic ground truth */
-    FRIG_PARAM_SYNTH_MAX_YAW = 500,         /* degrees (default 60) */
-    FRIG_PARAM_SYNTH_OFFSET_MM = 501,       /* personal displacement amplitude, mm (default 4) */
-    FRIG_PARAM_SYNTH_FAILURE_RATE = 502,    /* share of intended failures (default 0.1) */
-    FRIG_PARAM_SYNTH_IMAGE_SIZE = 503       /* photo side in pixels (default 512) */
-} frig_param;
-
-FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);
-/* Returns the parameter's current value, or NaN for an unknown parameter. */
-FRIG_API double frig_ctx_get_param(const frig_ctx *ctx, frig_param param);
-
-/* Introspection, for command lines and bindings: parameters by index 0..count-1. */
-FRIG_API size_t frig_param_count(void);
-FRIG_API frig_param frig_param_at(size_t index);
-/* "detect.scale_factor"; NULL for an unknown parameter. */
-FRIG_API const char *frig_param_name(frig_param param);
-FRIG_API const char *frig_param_help(frig_param param);
-FRIG_API double frig_param_default(frig_param param);
-/* Find a parameter by its name; FRIG_ERR_INVALID_ARGUMENT (with a message) if unknown. */
-FRIG_API frig_status frig_param_lookup(frig_ctx *ctx, const char *name, frig_param *out);
-
-#ifdef __cplusplus
-}
-#endif
-
+#include "frig/core.h"
 #include "frig/image.h"
 #include "frig/model.h"
 #include "frig/rig.h"
+#include "frig/photoset.h"
+#include "frig/fit.h"
 
 #endif /* FRIG_FRIG_H */

@@ -4,7 +4,7 @@
 #ifndef FRIG_IMAGE_H
 #define FRIG_IMAGE_H
 
-#include "frig/frig.h"
+#include "frig/core.h"
 
 #ifdef __cplusplus
 extern "C" {

@@ -5,7 +5,7 @@
 #ifndef FRIG_MODEL_H
 #define FRIG_MODEL_H
 
-#include "frig/frig.h"
+#include "frig/core.h"
 
 #ifdef __cplusplus
 extern "C" {

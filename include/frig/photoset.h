@@ -6,7 +6,7 @@
 #ifndef FRIG_PHOTOSET_H
 #define FRIG_PHOTOSET_H
 
-#include "frig/frig.h"
+#include "frig/core.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -88,6 +88,25 @@ FRIG_API frig_status frig_photoset_set_filter(frig_ctx *ctx, frig_photoset *set,
                                               double texture_error, double shape_error, int round_dropped);
 FRIG_API int frig_photoset_filter(const frig_photoset *set, size_t photo, double *error, double *texture_error,
                                   double *shape_error, int *round_dropped); /* 0 when not filtered */
+
+/* ---- fit results (sections 4.3-4.4, Algorithm 2) ---- */
+/* 1 when the photo has a model fit. */
+FRIG_API int frig_photoset_fitted(const frig_photoset *set, size_t photo);
+/* rotation: row-major 3x3 mapping model to camera coordinates (x right, y down, z forward,
+ * docs/camera.md); translation in metres; focal in pixels (perspective) or the scale in
+ * pixels per metre (weak perspective, perspective = 0). Any output may be NULL. */
+FRIG_API frig_status frig_photoset_fit_pose(const frig_photoset *set, size_t photo, double rotation[9],
+                                            double translation[3], double *focal, int *perspective);
+/* The fitted expressions (names as in the model) and one photo's weights in [0, 1]. */
+FRIG_API int frig_photoset_fit_expression_count(const frig_photoset *set);
+FRIG_API const char *frig_photoset_fit_expression_name(const frig_photoset *set, int k);
+FRIG_API frig_status frig_photoset_fit_expression(const frig_photoset *set, size_t photo, double *weights);
+/* RMS landmark reprojection error of the final fit, pixels (NaN when not fitted). */
+FRIG_API double frig_photoset_fit_error(const frig_photoset *set, size_t photo);
+/* 1 when the photo was in the last joint identity fit (the consistent subset, section 4.4). */
+FRIG_API int frig_photoset_fit_in_joint(const frig_photoset *set, size_t photo);
+/* The subject's identity weights (standard deviations of the model's identity modes). */
+FRIG_API int frig_photoset_identity(const frig_photoset *set, const double **weights);
 
 #ifdef __cplusplus
 }

@@ -1,4 +1,5 @@
 /* The photo set handle: photos, faces, statuses, subject choice, stage results. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -24,7 +25,11 @@ void frig_photoset_free(frig_photoset *set) {
         free(set->photos[i].path);
         free(set->photos[i].reason);
         free(set->photos[i].faces);
+        free(set->photos[i].fit_expression);
     }
+    for (int k = 0; k < set->n_expressions; k++) free(set->expression_names[k]);
+    free(set->expression_names);
+    free(set->identity);
     free(set->photos);
     free(set);
 }
@@ -239,4 +244,103 @@ int frig_photoset_filter(const frig_photoset *set, size_t i, double *error, doub
     if (shape_error) *shape_error = p->filter_shape_error;
     if (round_dropped) *round_dropped = p->filter_round;
     return 1;
+}
+
+/* ---- fit results (section 4.3) ---- */
+
+static void drop_fits(frig_photoset *set) {
+    for (size_t i = 0; i < set->count; i++) {
+        free(set->photos[i].fit_expression);
+        set->photos[i].fit_expression = NULL;
+        set->photos[i].fitted = 0;
+    }
+    for (int k = 0; k < set->n_expressions; k++) free(set->expression_names[k]);
+    free(set->expression_names);
+    free(set->identity);
+    set->expression_names = NULL;
+    set->identity = NULL;
+    set->n_expressions = set->n_identity = 0;
+}
+
+frig_status fr_photoset_set_fit_spaces(frig_ctx *ctx, frig_photoset *set, int n_identity, int n_expressions,
+                                       const char *const *names) {
+    drop_fits(set);
+    set->identity = calloc((size_t)(n_identity > 0 ? n_identity : 1), sizeof(double));
+    set->expression_names = calloc((size_t)(n_expressions > 0 ? n_expressions : 1), sizeof(char *));
+    if (!set->identity || !set->expression_names) {
+        drop_fits(set);
+        return fr_nomem(ctx, "fit results");
+    }
+    set->n_identity = n_identity;
+    set->n_expressions = n_expressions;
+    for (int k = 0; k < n_expressions; k++)
+        if (!(set->expression_names[k] = strdup(names[k]))) {
+            drop_fits(set);
+            return fr_nomem(ctx, "fit results");
+        }
+    return FRIG_OK;
+}
+
+frig_status fr_photoset_set_fit(frig_ctx *ctx, frig_photoset *set, size_t i, const double R[9], const double t[3],
+                                double focal, int perspective, const double *expression, double error_px,
+                                int in_joint) {
+    fr_photo *p = photo_at(set, i);
+    if (!p) return bad_photo(ctx, set, i);
+    if (!p->fit_expression && !(p->fit_expression = calloc((size_t)(set->n_expressions + 1), sizeof(double))))
+        return fr_nomem(ctx, "fit results");
+    memcpy(p->fit_rotation, R, sizeof p->fit_rotation);
+    memcpy(p->fit_translation, t, sizeof p->fit_translation);
+    p->fit_focal = focal;
+    p->fit_perspective = perspective;
+    memcpy(p->fit_expression, expression, sizeof(double) * (size_t)set->n_expressions);
+    p->fit_error_px = error_px;
+    p->fit_in_joint = in_joint;
+    p->fitted = 1;
+    return FRIG_OK;
+}
+
+int frig_photoset_fitted(const frig_photoset *set, size_t i) {
+    fr_photo *p = photo_at(set, i);
+    return p ? p->fitted : 0;
+}
+
+frig_status frig_photoset_fit_pose(const frig_photoset *set, size_t i, double rotation[9], double translation[3],
+                                   double *focal, int *perspective) {
+    fr_photo *p = photo_at(set, i);
+    if (!p) return FRIG_ERR_INVALID_ARGUMENT;
+    if (!p->fitted) return FRIG_ERR_STATE;
+    if (rotation) memcpy(rotation, p->fit_rotation, sizeof p->fit_rotation);
+    if (translation) memcpy(translation, p->fit_translation, sizeof p->fit_translation);
+    if (focal) *focal = p->fit_focal;
+    if (perspective) *perspective = p->fit_perspective;
+    return FRIG_OK;
+}
+
+int frig_photoset_fit_expression_count(const frig_photoset *set) { return set ? set->n_expressions : 0; }
+
+const char *frig_photoset_fit_expression_name(const frig_photoset *set, int k) {
+    return set && k >= 0 && k < set->n_expressions ? set->expression_names[k] : NULL;
+}
+
+frig_status frig_photoset_fit_expression(const frig_photoset *set, size_t i, double *weights) {
+    fr_photo *p = photo_at(set, i);
+    if (!p) return FRIG_ERR_INVALID_ARGUMENT;
+    if (!p->fitted) return FRIG_ERR_STATE;
+    memcpy(weights, p->fit_expression, sizeof(double) * (size_t)set->n_expressions);
+    return FRIG_OK;
+}
+
+double frig_photoset_fit_error(const frig_photoset *set, size_t i) {
+    fr_photo *p = photo_at(set, i);
+    return p && p->fitted ? p->fit_error_px : NAN;
+}
+
+int frig_photoset_fit_in_joint(const frig_photoset *set, size_t i) {
+    fr_photo *p = photo_at(set, i);
+    return p && p->fitted ? p->fit_in_joint : 0;
+}
+
+int frig_photoset_identity(const frig_photoset *set, const double **weights) {
+    if (weights) *weights = set ? set->identity : NULL;
+    return set ? set->n_identity : 0;
 }

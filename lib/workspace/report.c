@@ -35,7 +35,29 @@ static void write_face(fr_json *j, const fr_face *f) {
     fr_json_end(j);
 }
 
-static void write_photo(fr_json *j, const fr_photo *p) {
+static void write_numbers(fr_json *j, const char *key, const double *v, int n) {
+    fr_json_array(j, key, 1);
+    for (int k = 0; k < n; k++) fr_json_number(j, NULL, v[k]);
+    fr_json_end(j);
+}
+
+static void write_fit(fr_json *j, const frig_photoset *set, const fr_photo *p) {
+    fr_json_object(j, "fit");
+    write_numbers(j, "rotation", p->fit_rotation, 9);
+    write_numbers(j, "translation", p->fit_translation, 3);
+    fr_json_string(j, "camera", p->fit_perspective ? "perspective" : "weak_perspective");
+    fr_json_number(j, p->fit_perspective ? "focal_px" : "scale_px_per_m", p->fit_focal);
+    fr_json_number(j, "reprojection_error_px", p->fit_error_px);
+    fr_json_bool(j, "joint", p->fit_in_joint);
+    /* Expression weights by name; exact zeros (inactive shapes) are left out. */
+    fr_json_object(j, "expression");
+    for (int k = 0; k < set->n_expressions; k++)
+        if (p->fit_expression[k] != 0) fr_json_number(j, set->expression_names[k], p->fit_expression[k]);
+    fr_json_end(j);
+    fr_json_end(j);
+}
+
+static void write_photo(fr_json *j, const frig_photoset *set, const fr_photo *p) {
     fr_json_object(j, NULL);
     fr_json_string(j, "file", p->path);
     fr_json_string(j, "status", frig_photo_status_name(p->status));
@@ -54,6 +76,7 @@ static void write_photo(fr_json *j, const fr_photo *p) {
         fr_json_int(j, "round_dropped", p->filter_round);
         fr_json_end(j);
     }
+    if (p->fitted) write_fit(j, set, p);
     fr_json_end(j);
 }
 
@@ -80,8 +103,16 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
     for (int k = 0; k <= FRIG_PHOTO_FIT_FAILED; k++)
         if (counts[k]) fr_json_int(&j, frig_photo_status_name((frig_photo_status)k), (long long)counts[k]);
     fr_json_end(&j);
+    if (set->n_identity || set->n_expressions) {
+        fr_json_object(&j, "fit");
+        write_numbers(&j, "identity", set->identity, set->n_identity);
+        fr_json_array(&j, "expressions", 1);
+        for (int k = 0; k < set->n_expressions; k++) fr_json_string(&j, NULL, set->expression_names[k]);
+        fr_json_end(&j);
+        fr_json_end(&j);
+    }
     fr_json_array(&j, "photos", 0);
-    for (size_t i = 0; i < set->count; i++) write_photo(&j, &set->photos[i]);
+    for (size_t i = 0; i < set->count; i++) write_photo(&j, set, &set->photos[i]);
     fr_json_end(&j);
     fr_json_end(&j);
     fr_json_finish(&j);
@@ -140,6 +171,60 @@ static frig_status read_face(reader *r, frig_photoset *set, const cJSON *jf) {
     return bad(r, why);
 }
 
+static frig_status read_fit(reader *r, frig_photoset *set, size_t idx, const cJSON *fit) {
+    double R[9], t[3];
+    if (!read_numbers(cJSON_GetObjectItemCaseSensitive(fit, "rotation"), R, 9) ||
+        !read_numbers(cJSON_GetObjectItemCaseSensitive(fit, "translation"), t, 3))
+        return bad(r, "\"fit\" lacks rotation or translation");
+    const char *cam = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(fit, "camera"));
+    int perspective = cam && strcmp(cam, "perspective") == 0;
+    if (!perspective && !(cam && strcmp(cam, "weak_perspective") == 0)) return bad(r, "unknown \"camera\"");
+    const cJSON *f = cJSON_GetObjectItemCaseSensitive(fit, perspective ? "focal_px" : "scale_px_per_m");
+    const cJSON *e = cJSON_GetObjectItemCaseSensitive(fit, "reprojection_error_px");
+    if (!cJSON_IsNumber(f) || !cJSON_IsNumber(e)) return bad(r, "\"fit\" lacks its camera value or error");
+    double *w = calloc((size_t)set->n_expressions + 1, sizeof(double));
+    if (!w) return fr_nomem(r->ctx, "fit results");
+    const cJSON *je = cJSON_GetObjectItemCaseSensitive(fit, "expression");
+    for (const cJSON *x = cJSON_IsObject(je) ? je->child : NULL; x; x = x->next) {
+        int k = 0;
+        while (k < set->n_expressions && strcmp(set->expression_names[k], x->string)) k++;
+        if (k == set->n_expressions || !cJSON_IsNumber(x) || x->valuedouble < 0 || x->valuedouble > 1) {
+            free(w);
+            return bad(r, "an expression weight names no fitted expression or is outside [0, 1]");
+        }
+        w[k] = x->valuedouble;
+    }
+    frig_status s = fr_photoset_set_fit(r->ctx, set, idx, R, t, f->valuedouble, perspective, w, e->valuedouble,
+                                        cJSON_IsTrue(cJSON_GetObjectItemCaseSensitive(fit, "joint")));
+    free(w);
+    return s;
+}
+
+static frig_status read_fit_spaces(frig_ctx *ctx, const char *path, frig_photoset *set, const cJSON *root) {
+    const cJSON *fit = cJSON_GetObjectItemCaseSensitive(root, "fit");
+    if (!fit) return FRIG_OK;
+    const cJSON *id = cJSON_GetObjectItemCaseSensitive(fit, "identity");
+    const cJSON *names = cJSON_GetObjectItemCaseSensitive(fit, "expressions");
+    if (!cJSON_IsArray(id) || !cJSON_IsArray(names) || cJSON_GetArraySize(id) > 10000 ||
+        cJSON_GetArraySize(names) > 10000)
+        return fr_error(ctx, FRIG_ERR_CORRUPT, "%s: \"fit\" needs identity and expressions arrays", path);
+    int n_id = cJSON_GetArraySize(id), n_exp = cJSON_GetArraySize(names);
+    const char **nm = calloc((size_t)n_exp + 1, sizeof(char *));
+    if (!nm) return fr_nomem(ctx, "fit results");
+    int k = 0;
+    for (const cJSON *x = names->child; x; x = x->next, k++)
+        if (!(nm[k] = cJSON_GetStringValue(x))) {
+            free(nm);
+            return fr_error(ctx, FRIG_ERR_CORRUPT, "%s: an expression name is not a string", path);
+        }
+    frig_status s = fr_photoset_set_fit_spaces(ctx, set, n_id, n_exp, nm);
+    free(nm);
+    if (s) return s;
+    if (!read_numbers(id, set->identity, n_id))
+        return fr_error(ctx, FRIG_ERR_CORRUPT, "%s: identity weights are not numbers", path);
+    return FRIG_OK;
+}
+
 static frig_status read_photo(reader *r, frig_photoset *set, const cJSON *jp) {
     const char *file = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jp, "file"));
     if (!file) return bad(r, "no \"file\"");
@@ -176,6 +261,8 @@ static frig_status read_photo(reader *r, frig_photoset *set, const cJSON *jp) {
         frig_photoset_set_filter(r->ctx, set, idx, e->valuedouble, cJSON_IsNumber(te) ? te->valuedouble : 0,
                                  cJSON_IsNumber(se) ? se->valuedouble : 0, rd->valueint);
     }
+    const cJSON *fit = cJSON_GetObjectItemCaseSensitive(jp, "fit");
+    if (cJSON_IsObject(fit)) return read_fit(r, set, idx, fit);
     return FRIG_OK;
 }
 
@@ -213,6 +300,7 @@ frig_status frig_photoset_load(frig_ctx *ctx, const char *workspace, frig_photos
     } else if (!(s = frig_photoset_create(ctx, &set))) {
         const cJSON *photos = cJSON_GetObjectItemCaseSensitive(root, "photos");
         if (!cJSON_IsArray(photos)) s = fr_error(ctx, FRIG_ERR_CORRUPT, "%s: no \"photos\" array", path);
+        if (!s) s = read_fit_spaces(ctx, path, set, root);
         for (const cJSON *jp = cJSON_IsArray(photos) ? photos->child : NULL; jp && !s; jp = jp->next, r.photo++)
             s = read_photo(&r, set, jp);
     }

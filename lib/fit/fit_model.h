@@ -1,0 +1,53 @@
+/* The part of the face model the fit stage works with (paper section 4.3): the landmark
+ * vertices, the jawline contour candidates and the cheek/jaw vertices whose silhouette the
+ * jaw landmarks follow, with their rows of the identity and expression bases, in double
+ * precision. Built once per model, shared read-only by every photo's fit. Internal. */
+#ifndef FR_FIT_FIT_MODEL_H
+#define FR_FIT_FIT_MODEL_H
+
+#include "frig/model.h"
+
+#define FR_LANDMARKS 68
+#define FR_CONTOUR_LANDMARKS 17 /* iBUG 0..16: the jawline */
+
+typedef struct fr_fit_model {
+    const frig_model *model;
+    int n_id;         /* identity modes fitted */
+    int n_exp;        /* expression shapes fitted */
+    int *exp_index;   /* model expression index of each fitted expression */
+    int n_cols;       /* n_id + n_exp */
+
+    /* Vertex slots: every vertex the fit evaluates. */
+    int n_slots;
+    int *slot_vertex; /* model vertex of each slot */
+    double *mean;     /* 3 per slot: the neutral */
+    double *basis;    /* (3 n_slots) x n_cols, row-major: identity modes, then expressions */
+
+    int landmark_slot[FR_LANDMARKS];   /* default slot of each iBUG landmark */
+    /* Silhouette rows: jaw landmark k (iBUG 0..16, not the chin 8) may move to a vertex of
+     * row k, the jawline and cheek vertices whose angle around the face centre (model x-y
+     * plane, neutral shape) is nearest to its default vertex's: row_slots[row_start[k] ..
+     * row_start[k + 1] - 1]. */
+    int row_start[FR_CONTOUR_LANDMARKS + 1];
+    int *row_slots;
+    /* Triangles over the slots (for silhouette normals): 3 slots each. */
+    int n_tris;
+    int *tris;
+    /* Model-space x of the face centre line and the sign of x on side 0. */
+    double side0_sign;
+} fr_fit_model;
+
+frig_status fr_fit_model_build(frig_ctx *ctx, const frig_model *model, int n_id, fr_fit_model *out);
+void fr_fit_model_free(fr_fit_model *fm);
+
+/* Positions of the given slots for weights w (n_cols values): out[3k..3k+2]. */
+void fr_fit_model_eval_slots(const fr_fit_model *fm, const double *w, const int *slots, int n, double *out);
+/* Positions of every slot. */
+void fr_fit_model_eval_all(const fr_fit_model *fm, const double *w, double *out);
+
+/* Row of the basis for coordinate c (0..2) of slot s: n_cols values. */
+static inline const double *fr_fit_model_row(const fr_fit_model *fm, int s, int c) {
+    return fm->basis + (3 * (size_t)s + (size_t)c) * (size_t)fm->n_cols;
+}
+
+#endif

@@ -1,0 +1,156 @@
+/* The fit stage over a photo set (paper sections 4.3-4.4, Algorithm 2): gathers the usable
+ * photos, cuts a small gray face crop from each for photo-consistency, runs the progressive
+ * fit and records poses, cameras, expression weights and the identity in the set. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "fit/photo_consistency.h"
+#include "fit/progressive_fit.h"
+#include "frig/fit.h"
+#include "workspace/photoset.h"
+
+/* A fit whose RMS landmark error exceeds this share of the eye distance is unusable. */
+#define FIT_FAILED_RMS_PER_EYE_DISTANCE 0.15
+#define CROP_SIDE 160
+
+typedef struct usable {
+    size_t photo;
+    double landmarks[2 * FR_LANDMARKS];
+} usable;
+
+static int collect_usable(const frig_photoset *set, usable *u) {
+    int n = 0;
+    for (size_t i = 0; i < set->count; i++) {
+        const fr_photo *p = &set->photos[i];
+        const fr_face *f = p->status == FRIG_PHOTO_OK ? fr_photo_subject(p) : NULL;
+        if (!f) continue;
+        u[n].photo = i;
+        memcpy(u[n].landmarks, f->landmarks, sizeof u[n].landmarks);
+        n++;
+    }
+    return n;
+}
+
+/* Read every usable photo once (in parallel) and keep only a small gray face crop. */
+static void load_crops(frig_ctx *ctx, frig_photoset *set, const usable *u, int n, fr_fit_input *in,
+                       frig_image **crops, char **errors) {
+    atomic_size_t done;
+    atomic_init(&done, 0);
+    int saved = fr_blas_serial_begin();
+#pragma omp parallel for schedule(dynamic) num_threads(fr_threads(ctx))
+    for (int a = 0; a < n; a++) {
+        if (fr_cancelled(ctx)) continue;
+        const fr_photo *p = &set->photos[u[a].photo];
+        frig_ctx *local = frig_ctx_create(); /* errors of one photo stay with it */
+        frig_image *img = NULL;
+        if (local) {
+            frig_ctx_set_param(local, FRIG_PARAM_IMAGE_MAX_PIXELS, fr_param(ctx, FRIG_PARAM_IMAGE_MAX_PIXELS));
+            if (frig_image_load(local, p->path, FRIG_LOAD_DEFAULT, &img) ||
+                fr_face_crop(local, img, u[a].landmarks, CROP_SIDE, &crops[a], in[a].crop_origin, &in[a].crop_scale))
+                errors[a] = strdup(frig_ctx_errmsg(local));
+            in[a].width = img ? frig_image_width(img) : p->width;
+            in[a].height = img ? frig_image_height(img) : p->height;
+        }
+        in[a].crop = crops[a];
+        frig_image_free(img);
+        frig_ctx_free(local);
+        fr_progress_tick(ctx, &done, "fit.read", (size_t)n);
+    }
+    fr_blas_serial_end(saved);
+}
+
+static frig_status record(frig_ctx *ctx, frig_photoset *set, const fr_fit_model *fm, const usable *u, int n,
+                          const fr_fit_result *res, const double *identity) {
+    const char **names = malloc(sizeof(char *) * (size_t)(fm->n_exp + 1));
+    if (!names) return fr_nomem(ctx, "fit results");
+    for (int k = 0; k < fm->n_exp; k++) names[k] = frig_model_expression_name(fm->model, fm->exp_index[k]);
+    frig_status s = fr_photoset_set_fit_spaces(ctx, set, fm->n_id, fm->n_exp, names);
+    free(names);
+    if (s) return s;
+    memcpy(set->identity, identity, sizeof(double) * (size_t)fm->n_id);
+    for (int a = 0; a < n && !s; a++) {
+        const fr_fit_result *r = &res[a];
+        s = fr_photoset_set_fit(ctx, set, u[a].photo, r->R, r->t, r->f, r->perspective, r->w + fm->n_id, r->rms_px,
+                                r->in_joint);
+        double eyes = 0;
+        const double *q = u[a].landmarks;
+        double l[2] = {0, 0}, rr[2] = {0, 0};
+        for (int k = 36; k < 42; k++) l[0] += q[2 * k] / 6, l[1] += q[2 * k + 1] / 6;
+        for (int k = 42; k < 48; k++) rr[0] += q[2 * k] / 6, rr[1] += q[2 * k + 1] / 6;
+        eyes = hypot(l[0] - rr[0], l[1] - rr[1]);
+        if (!s && !(r->rms_px <= FIT_FAILED_RMS_PER_EYE_DISTANCE * eyes)) {
+            char why[160];
+            snprintf(why, sizeof why, "landmark fit error %.1f px is over %.0f%% of the eye distance (%.1f px)",
+                     r->rms_px, 100 * FIT_FAILED_RMS_PER_EYE_DISTANCE, eyes);
+            s = frig_photoset_set_status(ctx, set, u[a].photo, FRIG_PHOTO_FIT_FAILED, why);
+        }
+    }
+    return s;
+}
+
+frig_status frig_fit(frig_ctx *ctx, const frig_model *model, frig_photoset *set) {
+    if (!model || !set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_fit: NULL model or photo set");
+    usable *u = malloc(sizeof(usable) * (set->count + 1));
+    if (!u) return fr_nomem(ctx, "the fit");
+    int n = collect_usable(set, u);
+    if (n == 0) {
+        free(u);
+        return fr_error(ctx, FRIG_ERR_TOO_FEW, "no photo with an ok status and subject landmarks to fit "
+                                               "(run frig detect and frig filter first)");
+    }
+    fr_fit_input *in = calloc((size_t)n, sizeof *in);
+    frig_image **crops = calloc((size_t)n, sizeof *crops);
+    char **errors = calloc((size_t)n, sizeof *errors);
+    fr_fit_result *res = calloc((size_t)n, sizeof *res);
+    fr_fit_model fm;
+    memset(&fm, 0, sizeof fm);
+    double *w = NULL, *identity = NULL;
+    frig_status s = !in || !crops || !errors || !res ? fr_nomem(ctx, "the fit") : FRIG_OK;
+    if (!s) s = fr_fit_model_build(ctx, model, fr_param_int(ctx, FRIG_PARAM_FIT_IDENTITY_MODES), &fm);
+    if (!s) {
+        w = calloc((size_t)n * fm.n_cols + 1, sizeof(double));
+        identity = calloc((size_t)fm.n_id + 1, sizeof(double));
+        if (!w || !identity) s = fr_nomem(ctx, "the fit");
+    }
+    if (!s) {
+        for (int a = 0; a < n; a++) {
+            in[a].landmarks = u[a].landmarks;
+            res[a].w = w + (size_t)a * fm.n_cols;
+        }
+        load_crops(ctx, set, u, n, in, crops, errors);
+        s = fr_check_cancel(ctx, "fit.read");
+    }
+    /* Photos that cannot be read again are reported and left out. */
+    int kept = 0;
+    for (int a = 0; a < n && !s; a++) {
+        if (errors[a]) {
+            s = frig_photoset_set_status(ctx, set, u[a].photo, FRIG_PHOTO_UNREADABLE, errors[a]);
+            continue;
+        }
+        frig_image *crop = crops[a];
+        crops[a] = NULL;
+        u[kept] = u[a];
+        in[kept] = in[a];
+        in[kept].landmarks = u[kept].landmarks;
+        crops[kept] = crop;
+        res[kept].w = w + (size_t)kept * fm.n_cols;
+        kept++;
+    }
+    if (!s && kept == 0) s = fr_error(ctx, FRIG_ERR_TOO_FEW, "none of the photos to fit could be read again");
+    if (!s) {
+        fr_fit_settings st;
+        fr_fit_settings_from_ctx(ctx, &st);
+        s = fr_fit_run(ctx, &fm, &st, FR_SCHEME_PROGRESSIVE, kept, in, res, identity);
+    }
+    if (!s) s = record(ctx, set, &fm, u, kept, res, identity);
+    for (int a = 0; a < n && errors && crops; a++) {
+        free(errors[a]);
+        frig_image_free(crops[a]);
+    }
+    fr_fit_model_free(&fm);
+    free(u), free(in), free(crops), free(errors), free(res), free(w), free(identity);
+    return s;
+}
