@@ -28,11 +28,12 @@ void cli_note(cli_env *env, const char *fmt, ...) __attribute__((format(printf, 
 /* mkdir -p; prints the error and returns CLI_FAILED on failure. */
 int cli_make_dir(cli_env *env, const char *path);
 
-/* Open the model: 'path', else $FRIG_MODEL, else the user data folder. */
-int cli_open_model(cli_env *env, const char *cmd, const char *path, frig_model **model);
 
 /* OUT/rig.glb and the OBJ files in OUT/shapes/, and a summary of the targets on stdout. */
 int cli_export_rig(cli_env *env, const char *cmd, const frig_rig *rig, const char *out);
+/* --model FILE (given, may be NULL) or the default model path into buf; load it. */
+int cli_model_path(cli_env *env, const char *cmd, const char *given, char *buf, size_t size);
+int cli_load_model(cli_env *env, const char *cmd, const char *given, frig_model **m);
 
 /* Subcommands. */
 int cmd_info(cli_env *env, int argc, char **argv);
@@ -43,5 +44,7 @@ int cmd_fit(cli_env *env, int argc, char **argv);
 extern const char cmd_fit_usage[];
 int cmd_export(cli_env *env, int argc, char **argv);
 extern const char cmd_export_usage[];
+int cmd_synth(cli_env *env, int argc, char **argv);
+extern const char cmd_synth_usage[];
 
 #endif

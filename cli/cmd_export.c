@@ -29,7 +29,7 @@ int cmd_export(cli_env *env, int argc, char **argv) {
     if (s == FRIG_ERR_NOT_FOUND) {
         frig_model *model = NULL;
         frig_photoset *set = NULL;
-        int rc = cli_open_model(env, "export", model_path, &model);
+        int rc = cli_load_model(env, "export", model_path, &model);
         if (rc) return rc;
         const double *identity = NULL;
         if (frig_photoset_load(env->ctx, ws, &set)) rc = cli_fail(env, "export");

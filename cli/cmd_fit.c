@@ -36,7 +36,7 @@ int cmd_fit(cli_env *env, int argc, char **argv) {
     frig_model *model = NULL;
     frig_photoset *set = NULL;
     frig_rig *rig = NULL;
-    int rc = cli_open_model(env, "fit", model_path, &model);
+    int rc = cli_load_model(env, "fit", model_path, &model);
     if (rc) return rc;
     if (frig_photoset_load(env->ctx, ws, &set) || frig_fit(env->ctx, model, set) ||
         frig_photoset_save(env->ctx, set, ws)) {

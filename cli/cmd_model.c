@@ -29,16 +29,6 @@ const char cmd_model_usage[] =
     "The model is --model FILE, else $FRIG_MODEL, else $XDG_DATA_HOME/frig/ict.frigmodel,\n"
     "else ~/.local/share/frig/ict.frigmodel.\n";
 
-/* --model FILE or the default path into buf. */
-static int model_path(cli_env *env, const char *given, char *buf, size_t size) {
-    if (given) {
-        snprintf(buf, size, "%s", given);
-        return CLI_OK;
-    }
-    if (frig_model_default_path(env->ctx, buf, size)) return cli_fail(env, "model");
-    return CLI_OK;
-}
-
 static int import_ict(cli_env *env, int argc, char **argv) {
     const char *dir = NULL, *out = NULL;
     for (int i = 0; i < argc; i++) {
@@ -49,7 +39,7 @@ static int import_ict(cli_env *env, int argc, char **argv) {
     }
     if (!dir) return cli_usage_error("model import-ict", "no ICT-FaceKit folder given");
     char path[4096];
-    int rc = model_path(env, out, path, sizeof path);
+    int rc = cli_model_path(env, "model import-ict", out, path, sizeof path);
     if (rc) return rc;
     frig_model *m = NULL;
     if (frig_model_import_ict(env->ctx, dir, &m)) return cli_fail(env, "model import-ict");
@@ -79,7 +69,7 @@ static int info(cli_env *env, int argc, char **argv) {
         else return cli_usage_error("model info", "unknown argument '%s'", argv[i]);
     }
     frig_model *m = NULL;
-    int rc = cli_open_model(env, "model", given, &m);
+    int rc = cli_load_model(env, "model", given, &m);
     if (rc) return rc;
     printf("vertices %d, polygons %d, triangles %d, uvs %d, materials %d\n", frig_model_vertex_count(m),
            frig_model_polygon_count(m), frig_model_triangle_count(m), frig_model_uv_count(m),
@@ -154,7 +144,7 @@ static int export_cmd(cli_env *env, int argc, char **argv) {
     }
     if (!out) return cli_usage_error("model export", "no output folder given (-o OUT)");
     frig_model *m = NULL;
-    int rc = cli_open_model(env, "model", given, &m);
+    int rc = cli_load_model(env, "model", given, &m);
     if (rc) return rc;
     int k = frig_model_identity_count(m);
     double *w = calloc((size_t)k + 1, sizeof *w);

@@ -1,4 +1,4 @@
-/* Pieces several subcommands share: folders, the model, writing a rig for users. */
+/* Pieces several subcommands share: folders, writing a rig for users. */
 #include <errno.h>
 #include <stdio.h>
 #include <string.h>
@@ -21,21 +21,6 @@ int cli_make_dir(cli_env *env, const char *path) {
             *c = keep;
             if (!keep) break;
         }
-    }
-    return CLI_OK;
-}
-
-int cli_open_model(cli_env *env, const char *cmd, const char *path, frig_model **model) {
-    char buf[4096];
-    if (!path) {
-        if (frig_model_default_path(env->ctx, buf, sizeof buf)) return cli_fail(env, cmd);
-        path = buf;
-    }
-    if (frig_model_load(env->ctx, path, model)) {
-        cli_fail(env, cmd);
-        fprintf(stderr, "frig %s: import the model once with: frig model import-ict PATH/TO/ict-facekit -o %s\n", cmd,
-                path);
-        return CLI_FAILED;
     }
     return CLI_OK;
 }

@@ -13,6 +13,7 @@ static const cli_command commands[] = {
     {"model", cmd_model, "import the ICT-FaceKit model, describe it, export its rig", cmd_model_usage},
     {"fit", cmd_fit, "fit the face model to the workspace's photos (sections 4.3-4.4)", cmd_fit_usage},
     {"export", cmd_export, "write the workspace's rig as glTF and OBJ files", cmd_export_usage},
+    {"synth", cmd_synth, "render synthetic subjects and photos with their ground truth", cmd_synth_usage},
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
 

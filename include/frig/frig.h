@@ -14,5 +14,6 @@
 #include "frig/rig.h"
 #include "frig/photoset.h"
 #include "frig/fit.h"
+#include "frig/synth.h"
 
 #endif /* FRIG_FRIG_H */
