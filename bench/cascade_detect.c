@@ -1,0 +1,76 @@
+/* Face boxes from libfrig's cascade evaluator, printed like shared/tools/opencv_ref.py does
+ * (one JSON object per image: boxes, neighbours, detector seconds), for side-by-side runs
+ * against OpenCV. Images are read as stored (no EXIF rotation), gray as OpenCV's IMREAD_GRAYSCALE.
+ * Use: cascade_detect [--cascade XML] [--scale 1.1] [--neighbors 3] [--min-size 30] IMAGE... */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "detect/cascade.h"
+#include "frig/image.h"
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+int main(int argc, char **argv) {
+    const char *cascade_path = "/usr/share/opencv4/haarcascades/haarcascade_frontalface_alt2.xml";
+    double scale = 1.1;
+    int neighbors = 3, min_size = 30, i = 1;
+    for (; i < argc && strncmp(argv[i], "--", 2) == 0; i += 2) {
+        if (i + 1 >= argc) break;
+        if (!strcmp(argv[i], "--cascade")) cascade_path = argv[i + 1];
+        else if (!strcmp(argv[i], "--scale")) scale = atof(argv[i + 1]);
+        else if (!strcmp(argv[i], "--neighbors")) neighbors = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--min-size")) min_size = atoi(argv[i + 1]);
+        else {
+            fprintf(stderr, "unknown option %s\n", argv[i]);
+            return 2;
+        }
+    }
+    frig_ctx *ctx = frig_ctx_create();
+    fr_cascade *c = NULL;
+    if (!ctx || fr_cascade_load(ctx, cascade_path, &c)) {
+        fprintf(stderr, "%s\n", ctx ? frig_ctx_errmsg(ctx) : "out of memory");
+        return 1;
+    }
+    double total = 0;
+    int images = 0;
+    for (; i < argc; i++) {
+        frig_image *img = NULL;
+        if (frig_image_load(ctx, argv[i], FRIG_LOAD_GRAY | FRIG_LOAD_IGNORE_ORIENTATION, &img)) {
+            printf("{\"image\": \"%s\", \"error\": \"unreadable\"}\n", argv[i]);
+            continue;
+        }
+        fr_cascade_box *b = NULL;
+        size_t n = 0;
+        double t0 = now();
+        frig_status s = fr_cascade_detect(ctx, c, frig_image_pixels(img), frig_image_width(img),
+                                          frig_image_height(img), frig_image_stride(img), scale, neighbors, min_size,
+                                          min_size, 0, 0, &b, &n);
+        double dt = now() - t0;
+        total += dt;
+        images++;
+        if (s) {
+            printf("{\"image\": \"%s\", \"error\": \"%s\"}\n", argv[i], frig_ctx_errmsg(ctx));
+        } else {
+            printf("{\"image\": \"%s\", \"boxes\": [", argv[i]);
+            for (size_t k = 0; k < n; k++)
+                printf("%s[%d, %d, %d, %d]", k ? ", " : "", b[k].x, b[k].y, b[k].w, b[k].h);
+            printf("], \"neighbors\": [");
+            for (size_t k = 0; k < n; k++) printf("%s%d", k ? ", " : "", b[k].neighbors);
+            printf("], \"weights\": [");
+            for (size_t k = 0; k < n; k++) printf("%s%.6f", k ? ", " : "", b[k].weight);
+            printf("], \"seconds\": %.5f}\n", dt);
+        }
+        free(b);
+        frig_image_free(img);
+    }
+    fprintf(stderr, "total detector seconds %.3f for %d images\n", total, images);
+    fr_cascade_free(c);
+    frig_ctx_free(ctx);
+    return 0;
+}
