@@ -22,6 +22,13 @@ typedef struct haar_stump {
     float threshold, left, right;
 } haar_stump;
 
+/* A tree node with its feature's offsets inlined (same index as the cascade's node). */
+typedef struct haar_node {
+    haar_opt f;
+    float threshold;
+    int left, right;
+} haar_node;
+
 typedef struct lbp_opt {
     int ofs[16]; /* the 4x4 grid of block corners */
 } lbp_opt;
@@ -37,8 +44,9 @@ typedef struct evaluator {
     const fr_cascade *c;
     int norm[4];
     double norm_area;
-    haar_opt *haar;      /* per feature (trees) */
+    haar_opt *haar;      /* per feature */
     haar_stump *hstumps; /* per weak classifier, stage order (stumps) */
+    haar_node *hnodes;   /* per tree node (trees) */
     lbp_opt *lbp;
     lbp_stump *lstumps;
 } evaluator;
@@ -75,6 +83,7 @@ static void lbp_setup(lbp_opt *o, const fr_cascade_lbp *f, int step) {
 static void evaluator_free(evaluator *e) {
     free(e->haar);
     free(e->hstumps);
+    free(e->hnodes);
     free(e->lbp);
     free(e->lstumps);
 }
@@ -100,6 +109,15 @@ static int evaluator_init(evaluator *e, const fr_cascade *c, int step, int tofs)
                 s->threshold = n->threshold;
                 s->left = leaf[-n->left];
                 s->right = leaf[-n->right];
+            }
+        } else {
+            e->hnodes = malloc(sizeof *e->hnodes * (size_t)c->nnodes);
+            if (!e->hnodes) return -1;
+            for (int i = 0; i < c->nnodes; i++) {
+                e->hnodes[i].f = e->haar[c->nodes[i].feature];
+                e->hnodes[i].threshold = c->nodes[i].threshold;
+                e->hnodes[i].left = c->nodes[i].left;
+                e->hnodes[i].right = c->nodes[i].right;
             }
         }
     } else {
@@ -180,10 +198,11 @@ static int run_haar(const evaluator *e, const uint32_t *p, const uint32_t *q, do
             sum = 0;
             for (int t = st->first_tree; t < st->first_tree + st->ntrees; t++) {
                 const fr_cascade_tree *tr = &c->trees[t];
+                const haar_node *root = &e->hnodes[tr->first_node];
                 int idx = 0;
                 do {
-                    const fr_cascade_node *n = &c->nodes[tr->first_node + idx];
-                    float v = haar_value(&e->haar[n->feature], p) * inv_sd;
+                    const haar_node *n = &root[idx];
+                    float v = haar_value(&n->f, p) * inv_sd;
                     idx = v < n->threshold ? n->left : n->right;
                 } while (idx > 0);
                 sum += c->leaves[tr->first_leaf - idx];
