@@ -3,7 +3,9 @@
  * against OpenCV. Images are read as stored (no EXIF rotation), gray as OpenCV's IMREAD_GRAYSCALE.
  * Use: cascade_detect [--cascade XML] [--scale 1.1] [--neighbors 3] [--min-size 30] IMAGE...
  * With --neighbors-list 1,2,3 the raw windows are found once and grouped with each threshold
- * ("by_neighbors" in the output; boxes are clipped after grouping, as OpenCV does). */
+ * ("by_neighbors" in the output; boxes are clipped after grouping, as OpenCV does). With --flip 1 the
+ * image is mirrored left-right before detection and the boxes mapped back (the profile cascade
+ * finds faces turned one way only). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -16,6 +18,18 @@ static double now(void) {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static void mirror(frig_image *img) {
+    int w = frig_image_width(img);
+    for (int y = 0; y < frig_image_height(img); y++) {
+        uint8_t *row = frig_image_pixels_mutable(img) + (size_t)y * frig_image_stride(img);
+        for (int x = 0; x < w / 2; x++) {
+            uint8_t t = row[x];
+            row[x] = row[w - 1 - x];
+            row[w - 1 - x] = t;
+        }
+    }
 }
 
 /* Group copies of the raw windows with each threshold; print {"k": [[x,y,w,h,neighbours],...], ...}. */
@@ -44,13 +58,14 @@ static void print_groups(const fr_cascade_box *raw, size_t n, const int *list, i
 int main(int argc, char **argv) {
     const char *cascade_path = "/usr/share/opencv4/haarcascades/haarcascade_frontalface_alt2.xml";
     double scale = 1.1;
-    int neighbors = 3, min_size = 30, i = 1, nlist = 0, list[16];
+    int neighbors = 3, min_size = 30, i = 1, nlist = 0, list[16], flip = 0;
     for (; i < argc && strncmp(argv[i], "--", 2) == 0; i += 2) {
         if (i + 1 >= argc) break;
         if (!strcmp(argv[i], "--cascade")) cascade_path = argv[i + 1];
         else if (!strcmp(argv[i], "--scale")) scale = atof(argv[i + 1]);
         else if (!strcmp(argv[i], "--neighbors")) neighbors = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "--min-size")) min_size = atoi(argv[i + 1]);
+        else if (!strcmp(argv[i], "--flip")) flip = atoi(argv[i + 1]);
         else if (!strcmp(argv[i], "--neighbors-list"))
             for (char *p = argv[i + 1]; *p && nlist < 16; p += strspn(p, ","))
                 list[nlist++] = (int)strtol(p, &p, 10);
@@ -73,6 +88,7 @@ int main(int argc, char **argv) {
             printf("{\"image\": \"%s\", \"error\": \"unreadable\"}\n", argv[i]);
             continue;
         }
+        if (flip) mirror(img);
         fr_cascade_box *b = NULL;
         size_t n = 0;
         double t0 = now();
@@ -81,6 +97,7 @@ int main(int argc, char **argv) {
                                           nlist ? 0 : neighbors, min_size,
                                           min_size, 0, 0, &b, &n);
         double dt = now() - t0;
+        for (size_t k = 0; flip && k < n; k++) b[k].x = frig_image_width(img) - b[k].x - b[k].w;
         total += dt;
         images++;
         if (s) {

@@ -164,92 +164,89 @@ static inline int lbp_code(const lbp_opt *f, const uint32_t *p) {
 }
 
 static inline int in_subset(const int32_t *subset, int code) {
-    return (subset[code >> 5] & (int32_t)(1u << (code & 31))) != 0;
+    return ((uint32_t)subset[code >> 5] >> (code & 31)) & 1u;
 }
 
-/* ---- one window: 1 accepted, -k rejected at stage k (0 = first), -1 also for a flat window ---- */
+/* ---- one stage's sum, for each kind of weak classifier ---- */
 
-static int run_haar(const evaluator *e, const uint32_t *p, const uint32_t *q, double *weight) {
+static double haar_stumps_sum(const evaluator *e, const fr_cascade_stage *st, const uint32_t *p, float inv_sd) {
+    const haar_stump *s = e->hstumps + st->first_tree;
+    double sum = 0;
+    for (int i = 0; i < st->ntrees; i++, s++) {
+        float v = haar_value(&s->f, p) * inv_sd;
+        sum += v < s->threshold ? s->left : s->right;
+    }
+    return sum;
+}
+
+static double haar_trees_sum(const evaluator *e, const fr_cascade_stage *st, const uint32_t *p, float inv_sd) {
     const fr_cascade *c = e->c;
+    double sum = 0;
+    for (int t = st->first_tree; t < st->first_tree + st->ntrees; t++) {
+        const fr_cascade_tree *tr = &c->trees[t];
+        const haar_node *root = &e->hnodes[tr->first_node];
+        int idx = 0;
+        do {
+            const haar_node *n = &root[idx];
+            float v = haar_value(&n->f, p) * inv_sd;
+            idx = v < n->threshold ? n->left : n->right;
+        } while (idx > 0);
+        sum += c->leaves[tr->first_leaf - idx];
+    }
+    return sum;
+}
+
+static double lbp_stumps_sum(const evaluator *e, const fr_cascade_stage *st, const uint32_t *p) {
+    const lbp_stump *s = e->lstumps + st->first_tree;
+    double sum = 0;
+    for (int i = 0; i < st->ntrees; i++, s++) sum += in_subset(s->subset, lbp_code(&s->f, p)) ? s->left : s->right;
+    return sum;
+}
+
+static double lbp_trees_sum(const evaluator *e, const fr_cascade_stage *st, const uint32_t *p) {
+    const fr_cascade *c = e->c;
+    double sum = 0;
+    for (int t = st->first_tree; t < st->first_tree + st->ntrees; t++) {
+        const fr_cascade_tree *tr = &c->trees[t];
+        int idx = 0;
+        do {
+            int ni = tr->first_node + idx;
+            const fr_cascade_node *n = &c->nodes[ni];
+            int code = lbp_code(&e->lbp[n->feature], p);
+            idx = in_subset(&c->subsets[(size_t)ni * FR_CASCADE_SUBSET_WORDS], code) ? n->left : n->right;
+        } while (idx > 0);
+        sum += c->leaves[tr->first_leaf - idx];
+    }
+    return sum;
+}
+
+/* OpenCV's variance normalization of a Haar window: 1 / (area * standard deviation) over the window
+ * less its one-pixel border; 0 (window skipped) when the deviation is under 10 grey levels. */
+static float haar_norm(const evaluator *e, const uint32_t *p, const uint32_t *q) {
     int32_t valsum = box_sum(p, e->norm);
     uint32_t valsq = q[e->norm[0]] - q[e->norm[1]] - q[e->norm[2]] + q[e->norm[3]];
     double nf = e->norm_area * valsq - (double)valsum * valsum;
-    if (!(nf > 0.)) return -1;
+    if (!(nf > 0.)) return 0.f;
     float inv_sd = (float)(1. / sqrt(nf));
-    if (!(e->norm_area * inv_sd < 1e-1)) return -1;
-    double sum = 0;
-    if (e->hstumps) {
-        const haar_stump *s = e->hstumps;
-        for (int si = 0; si < c->nstages; si++) {
-            const fr_cascade_stage *st = &c->stages[si];
-            sum = 0;
-            for (int i = 0; i < st->ntrees; i++, s++) {
-                float v = haar_value(&s->f, p) * inv_sd;
-                sum += v < s->threshold ? s->left : s->right;
-            }
-            if (sum < st->threshold) {
-                *weight = sum;
-                return -si;
-            }
-        }
-    } else {
-        for (int si = 0; si < c->nstages; si++) {
-            const fr_cascade_stage *st = &c->stages[si];
-            sum = 0;
-            for (int t = st->first_tree; t < st->first_tree + st->ntrees; t++) {
-                const fr_cascade_tree *tr = &c->trees[t];
-                const haar_node *root = &e->hnodes[tr->first_node];
-                int idx = 0;
-                do {
-                    const haar_node *n = &root[idx];
-                    float v = haar_value(&n->f, p) * inv_sd;
-                    idx = v < n->threshold ? n->left : n->right;
-                } while (idx > 0);
-                sum += c->leaves[tr->first_leaf - idx];
-            }
-            if (sum < st->threshold) {
-                *weight = sum;
-                return -si;
-            }
-        }
-    }
-    *weight = sum;
-    return 1;
+    return e->norm_area * inv_sd < 1e-1 ? inv_sd : 0.f;
 }
 
-static int run_lbp(const evaluator *e, const uint32_t *p, double *weight) {
+/* One window: 1 accepted, -k rejected by stage k (0 = the first), -1 also for a flat Haar window.
+ * 'weight' is the last stage sum computed. */
+static int run_window(const evaluator *e, const uint32_t *p, const uint32_t *q, double *weight) {
     const fr_cascade *c = e->c;
+    float inv_sd = 0.f;
+    if (c->type == FR_CASCADE_HAAR && (inv_sd = haar_norm(e, p, q)) == 0.f) return -1;
     double sum = 0;
-    if (e->lstumps) {
-        const lbp_stump *s = e->lstumps;
-        for (int si = 0; si < c->nstages; si++) {
-            const fr_cascade_stage *st = &c->stages[si];
-            sum = 0;
-            for (int i = 0; i < st->ntrees; i++, s++) sum += in_subset(s->subset, lbp_code(&s->f, p)) ? s->left : s->right;
-            if (sum < st->threshold) {
-                *weight = sum;
-                return -si;
-            }
-        }
-    } else {
-        for (int si = 0; si < c->nstages; si++) {
-            const fr_cascade_stage *st = &c->stages[si];
-            sum = 0;
-            for (int t = st->first_tree; t < st->first_tree + st->ntrees; t++) {
-                const fr_cascade_tree *tr = &c->trees[t];
-                int idx = 0;
-                do {
-                    int ni = tr->first_node + idx;
-                    const fr_cascade_node *n = &c->nodes[ni];
-                    int code = lbp_code(&e->lbp[n->feature], p);
-                    idx = in_subset(&c->subsets[(size_t)ni * FR_CASCADE_SUBSET_WORDS], code) ? n->left : n->right;
-                } while (idx > 0);
-                sum += c->leaves[tr->first_leaf - idx];
-            }
-            if (sum < st->threshold) {
-                *weight = sum;
-                return -si;
-            }
+    for (int si = 0; si < c->nstages; si++) {
+        const fr_cascade_stage *st = &c->stages[si];
+        if (c->type == FR_CASCADE_HAAR)
+            sum = e->hstumps ? haar_stumps_sum(e, st, p, inv_sd) : haar_trees_sum(e, st, p, inv_sd);
+        else
+            sum = e->lstumps ? lbp_stumps_sum(e, st, p) : lbp_trees_sum(e, st, p);
+        if (sum < st->threshold) {
+            *weight = sum;
+            return -si;
         }
     }
     *weight = sum;
@@ -284,7 +281,7 @@ static int scan_level(const evaluator *e, const uint32_t *sum, const uint32_t *s
         const uint32_t *prow = sum + (size_t)y * istride, *qrow = sqsum ? sqsum + (size_t)y * istride : NULL;
         for (int x = 0; x < xlimit; x += step) {
             double weight;
-            int r = qrow ? run_haar(e, prow + x, qrow + x, &weight) : run_lbp(e, prow + x, &weight);
+            int r = run_window(e, prow + x, qrow ? qrow + x : NULL, &weight);
             if (r > 0 && push_box(out, (int)lrintf((float)x * scale), (int)lrintf((float)y * scale), ww, wh, weight))
                 return -1;
             if (r == 0) x += step;
