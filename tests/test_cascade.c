@@ -414,6 +414,51 @@ static void compare_resize(void) {
     CHECK(same == CASES);
 }
 
+/* Our gray photo (FRIG_LOAD_GRAY | FRIG_LOAD_IGNORE_ORIENTATION) is cv2's IMREAD_GRAYSCALE image:
+ * libjpeg's luma for JPEG, libpng's 0.299/0.587 conversion for PNG. */
+static const char *GRAY_PY =
+    "import cv2, struct, sys\n"
+    "for i, p in enumerate(sys.argv[2:]):\n"
+    "    g = cv2.imread(p, cv2.IMREAD_IGNORE_ORIENTATION | cv2.IMREAD_GRAYSCALE)\n"
+    "    open('%s/gray%d.raw' % (sys.argv[1], i), 'wb').write(struct.pack('<ii', g.shape[1], g.shape[0]) + g.tobytes())\n";
+
+static void compare_gray(char paths[][512], int n) {
+    const char *dir = test_temp_dir("cascade_gray");
+    char script[600], head[1400], path[700];
+    snprintf(script, sizeof script, "%s/gray.py", dir);
+    FILE *fp = fopen(script, "w");
+    if (!fp) return;
+    fputs(GRAY_PY, fp);
+    fclose(fp);
+    snprintf(head, sizeof head, PY " '%s' '%s'", script, dir);
+    FILE *job = start_reference(head, paths, n);
+    if (job) pclose(job);
+    int same = 0, pngs = 0;
+    for (int i = 0; i < n; i++) {
+        frig_image *img = NULL;
+        snprintf(path, sizeof path, "%s/gray%d.raw", dir, i);
+        FILE *rf = fopen(path, "rb");
+        int32_t wh[2] = {0, 0};
+        if (!rf || fread(wh, sizeof(int32_t), 2, rf) != 2 ||
+            frig_image_load(ctx, paths[i], FRIG_LOAD_GRAY | FRIG_LOAD_IGNORE_ORIENTATION, &img)) {
+            if (rf) fclose(rf);
+            continue;
+        }
+        int ok = wh[0] == frig_image_width(img) && wh[1] == frig_image_height(img);
+        uint8_t *row = malloc((size_t)wh[0] + 1);
+        for (int y = 0; ok && y < wh[1]; y++)
+            ok = fread(row, 1, (size_t)wh[0], rf) == (size_t)wh[0] &&
+                 memcmp(row, frig_image_pixels(img) + (size_t)y * frig_image_stride(img), (size_t)wh[0]) == 0;
+        same += ok;
+        pngs += strstr(paths[i], ".png") != NULL;
+        free(row);
+        fclose(rf);
+        frig_image_free(img);
+    }
+    printf("gray images: %d of %d photos (%d PNG) identical to cv2's IMREAD_GRAYSCALE\n", same, n, pngs);
+    CHECK(same == n && pngs > 0);
+}
+
 /* Two threads on one cascade give the serial answers. */
 static void check_threads(char paths[][512], int n) {
     fr_cascade *c = NULL;
@@ -468,6 +513,7 @@ int main(void) {
     }
     printf("%d photos from every set\n", n);
     compare_resize();
+    compare_gray(paths, n);
     /* the default frontal cascade on every photo, each other one on a third of them (which still
      * spans every set) */
     static char third[3][MAX_PHOTOS][512], some[12][512];
