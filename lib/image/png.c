@@ -79,7 +79,9 @@ frig_status fr_png_decode(frig_ctx *ctx, const char *name, const unsigned char *
     if (depth == 16) png_set_scale_16(png);
     png_set_strip_alpha(png);
     int is_gray = color == PNG_COLOR_TYPE_GRAY || color == PNG_COLOR_TYPE_GRAY_ALPHA;
-    if (gray && !is_gray) png_set_rgb_to_gray_fixed(png, 1, -1, -1);
+    /* OpenCV's IMREAD_GRAYSCALE asks libpng for weights 0.299/0.587 (libpng truncates them to
+     * 9797/19234/3737 out of 32768 and truncates each sum): the same call gives the same bytes. */
+    if (gray && !is_gray) png_set_rgb_to_gray_fixed(png, 1, 29900, 58700);
     if (!gray && is_gray) png_set_gray_to_rgb(png);
     png_set_interlace_handling(png);
     png_read_update_info(png, info);
