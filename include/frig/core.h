@@ -127,16 +127,16 @@ typedef enum frig_param {
     FRIG_PARAM_FILTER_PCA_ENERGY = 305,     /* variance kept by the PCA models (default 0.98) */
 
     /* fit (sections 4.3-4.4, Algorithm 2) */
-    FRIG_PARAM_FIT_W_EXP = 400,             /* w1, expression prior (default 5) */
-    FRIG_PARAM_FIT_W_SPARSE = 401,          /* w2, L1 sparsity (default 10) */
-    FRIG_PARAM_FIT_W_ID = 402,              /* w3, identity prior (default 10) */
+    FRIG_PARAM_FIT_W_EXP = 400,             /* expression prior (default 10) */
+    FRIG_PARAM_FIT_W_SPARSE = 401,          /* L1 expression sparsity (default 40) */
+    FRIG_PARAM_FIT_W_ID = 402,              /* identity prior (default 20) */
     FRIG_PARAM_FIT_ROUNDS = 403,            /* progressive rounds (default 3) */
     FRIG_PARAM_FIT_SUBSET_FIRST = 404,      /* fraction in the first joint fit (default 0.4) */
     FRIG_PARAM_FIT_SUBSET_STEP = 405,       /* added per round (default 0.2: 0.4, 0.6, 0.8) */
     FRIG_PARAM_FIT_SCORE_W_ID = 406,        /* eq. 4.11 w1 (default 1.0) */
     FRIG_PARAM_FIT_SCORE_W_TEX = 407,       /* eq. 4.11 w2 (default 10.0) */
     FRIG_PARAM_FIT_IDENTITY_MODES = 408,    /* identity modes used (default 100) */
-    FRIG_PARAM_FIT_ITERATIONS = 409,        /* Gauss-Newton iterations per fit (default 30) */
+    FRIG_PARAM_FIT_ITERATIONS = 409,        /* Levenberg-Marquardt iterations per fit (default 20) */
     FRIG_PARAM_FIT_PERSPECTIVE = 410,       /* 1: perspective camera, 0: weak perspective (default 1) */
 
     /* synthetic ground truth */

@@ -37,9 +37,9 @@ static const param_row rows[] = {
     {FRIG_PARAM_FILTER_PCA_ENERGY, "filter.pca_energy", 0.98, 0.5, 1.0, 0,
      "share of variance kept by the shape and texture PCA models"},
 
-    {FRIG_PARAM_FIT_W_EXP, "fit.w_exp", 5, 0, 1e6, 0, "weight of the expression prior (eq. 4.8 w2)"},
-    {FRIG_PARAM_FIT_W_SPARSE, "fit.w_sparse", 10, 0, 1e6, 0, "weight of the L1 expression sparsity (eq. 4.8 w3)"},
-    {FRIG_PARAM_FIT_W_ID, "fit.w_id", 10, 0, 1e6, 0, "weight of the identity prior (eq. 4.8 w1)"},
+    {FRIG_PARAM_FIT_W_EXP, "fit.w_exp", 10, 0, 1e6, 0, "weight of the expression prior (eq. 4.8 w2)"},
+    {FRIG_PARAM_FIT_W_SPARSE, "fit.w_sparse", 40, 0, 1e6, 0, "weight of the L1 expression sparsity (eq. 4.8 w3)"},
+    {FRIG_PARAM_FIT_W_ID, "fit.w_id", 20, 0, 1e6, 0, "weight of the identity prior (eq. 4.8 w1)"},
     {FRIG_PARAM_FIT_ROUNDS, "fit.rounds", 3, 1, 20, 1, "rounds of progressive reconstruction"},
     {FRIG_PARAM_FIT_SUBSET_FIRST, "fit.subset_first", 0.4, 0.01, 1, 0, "fraction of photos in the first joint fit"},
     {FRIG_PARAM_FIT_SUBSET_STEP, "fit.subset_step", 0.2, 0, 1, 0, "fraction added in each later round"},
@@ -47,7 +47,7 @@ static const param_row rows[] = {
     {FRIG_PARAM_FIT_SCORE_W_TEX, "fit.score_w_tex", 10.0, 0, 1e6, 0,
      "weight of photo-consistency in the ranking"},
     {FRIG_PARAM_FIT_IDENTITY_MODES, "fit.identity_modes", 100, 0, 1000, 1, "identity modes fitted"},
-    {FRIG_PARAM_FIT_ITERATIONS, "fit.iterations", 30, 1, 1000, 1, "Gauss-Newton iterations per fit"},
+    {FRIG_PARAM_FIT_ITERATIONS, "fit.iterations", 20, 1, 1000, 1, "Levenberg-Marquardt iterations per photo fit"},
     {FRIG_PARAM_FIT_PERSPECTIVE, "fit.perspective", 1, 0, 1, 1,
      "1: perspective camera with fitted focal length; 0: weak perspective"},
 

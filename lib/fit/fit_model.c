@@ -37,9 +37,18 @@ static int slot_add(slot_map *m, int v) {
 }
 
 /* Vertices of the silhouette band, chosen on the neutral. */
-static int in_band(const float *neutral, int v, double chin_y, double eye_y) {
+#define BAND_EYE_CLEARANCE 0.02 /* keep 2 cm from the eye centres: the sockets fold inward */
+
+typedef struct band {
+    double chin_y, eye_y;
+    double eye[2][2]; /* x, y of the two eye centres */
+} band;
+
+static int in_band(const float *neutral, int v, const band *b) {
     double x = neutral[3 * v], y = neutral[3 * v + 1];
-    return fabs(x) > BAND_MIN_ABS_X && y > chin_y - BAND_Y_BELOW_CHIN && y < eye_y + BAND_Y_ABOVE_EYES;
+    for (int e = 0; e < 2; e++)
+        if (hypot(x - b->eye[e][0], y - b->eye[e][1]) < BAND_EYE_CLEARANCE) return 0;
+    return fabs(x) > BAND_MIN_ABS_X && y > b->chin_y - BAND_Y_BELOW_CHIN && y < b->eye_y + BAND_Y_ABOVE_EYES;
 }
 
 static frig_status gather_basis(frig_ctx *ctx, fr_fit_model *fm) {
@@ -89,7 +98,7 @@ static int row_of(const double *angle_of_landmark, int side, double a) {
 }
 
 static frig_status build_rows(frig_ctx *ctx, fr_fit_model *fm, slot_map *map, const int32_t *lm,
-                              const float *neutral, int band_first, int band_count, double chin_y, double eye_y) {
+                              const float *neutral, int band_first, int band_count, const band *bd) {
     double centre_y = neutral[3 * (size_t)lm[30] + 1];
     double angle[FR_CONTOUR_LANDMARKS];
     for (int k = 0; k < FR_CONTOUR_LANDMARKS; k++) angle[k] = row_angle(neutral, lm[k], centre_y);
@@ -108,7 +117,7 @@ static frig_status build_rows(frig_ctx *ctx, fr_fit_model *fm, slot_map *map, co
             if (!seen[jaw[k]]) seen[jaw[k]] = 1, cand[n++] = jaw[k];
     }
     for (int v = band_first; v < band_first + band_count && n < cap; v++)
-        if (!seen[v] && in_band(neutral, v, chin_y, eye_y)) seen[v] = 1, cand[n++] = v;
+        if (!seen[v] && in_band(neutral, v, bd)) seen[v] = 1, cand[n++] = v;
     for (int k = 0; k <= FR_CONTOUR_LANDMARKS; k++) fm->row_start[k] = 0;
     for (int i = 0; i < n; i++) {
         int side = neutral[3 * (size_t)cand[i]] * fm->side0_sign > 0 ? 0 : 1;
@@ -117,17 +126,46 @@ static frig_status build_rows(frig_ctx *ctx, fr_fit_model *fm, slot_map *map, co
     }
     for (int k = 0; k < FR_CONTOUR_LANDMARKS; k++) fm->row_start[k + 1] += fm->row_start[k];
     fm->row_slots = malloc(sizeof(int) * (size_t)(fm->row_start[FR_CONTOUR_LANDMARKS] + 1));
+    fm->row_radius = malloc(sizeof(double) * (size_t)(fm->row_start[FR_CONTOUR_LANDMARKS] + 1));
+    for (int k = 0; k < FR_CONTOUR_LANDMARKS; k++)
+        fm->jaw_radius[k] = hypot(neutral[3 * (size_t)lm[k]], neutral[3 * (size_t)lm[k] + 1] - centre_y);
     int fill[FR_CONTOUR_LANDMARKS];
     memcpy(fill, fm->row_start, sizeof fill);
-    frig_status s = fm->row_slots ? FRIG_OK : fr_nomem(ctx, "the fit model");
+    frig_status s = fm->row_slots && fm->row_radius ? FRIG_OK : fr_nomem(ctx, "the fit model");
     for (int i = 0; i < n && !s; i++) {
         if (row[i] < 0) continue;
         int sl = slot_add(map, cand[i]);
-        if (sl < 0) s = fr_nomem(ctx, "the fit model");
-        else fm->row_slots[fill[row[i]]++] = sl;
+        if (sl < 0) {
+            s = fr_nomem(ctx, "the fit model");
+            break;
+        }
+        fm->row_radius[fill[row[i]]] = hypot(neutral[3 * (size_t)cand[i]], neutral[3 * (size_t)cand[i] + 1] - centre_y);
+        fm->row_slots[fill[row[i]]++] = sl;
     }
     free(cand), free(row), free(seen);
     return s;
+}
+
+/* Slot neighbours along the edges of the slot triangles (duplicates kept: they only weigh
+ * an edge twice in the normal smoothing). */
+static frig_status build_adjacency(frig_ctx *ctx, fr_fit_model *fm) {
+    fm->adj_start = calloc((size_t)fm->n_slots + 1, sizeof(int));
+    fm->adj = malloc(sizeof(int) * 6 * (size_t)(fm->n_tris + 1));
+    if (!fm->adj_start || !fm->adj) return fr_nomem(ctx, "the fit model");
+    for (int t = 0; t < fm->n_tris; t++)
+        for (int c = 0; c < 3; c++) fm->adj_start[fm->tris[3 * t + c] + 1] += 2;
+    for (int s = 0; s < fm->n_slots; s++) fm->adj_start[s + 1] += fm->adj_start[s];
+    int *fill = malloc(sizeof(int) * (size_t)(fm->n_slots + 1));
+    if (!fill) return fr_nomem(ctx, "the fit model");
+    memcpy(fill, fm->adj_start, sizeof(int) * (size_t)fm->n_slots);
+    for (int t = 0; t < fm->n_tris; t++)
+        for (int c = 0; c < 3; c++) {
+            int a = fm->tris[3 * t + c];
+            fm->adj[fill[a]++] = fm->tris[3 * t + (c + 1) % 3];
+            fm->adj[fill[a]++] = fm->tris[3 * t + (c + 2) % 3];
+        }
+    free(fill);
+    return FRIG_OK;
 }
 
 frig_status fr_fit_model_build(frig_ctx *ctx, const frig_model *model, int n_id, fr_fit_model *fm) {
@@ -156,14 +194,20 @@ frig_status fr_fit_model_build(frig_ctx *ctx, const frig_model *model, int n_id,
 
     /* Band limits from the neutral's landmarks: chin (8) and the eyes' lower lids (41, 46). */
     const float *neutral = frig_model_neutral(model);
-    double chin_y = neutral[3 * (size_t)lm[8] + 1];
-    double eye_y = 0.5 * (neutral[3 * (size_t)lm[41] + 1] + neutral[3 * (size_t)lm[46] + 1]);
+    band bd;
+    bd.chin_y = neutral[3 * (size_t)lm[8] + 1];
+    bd.eye_y = 0.5 * (neutral[3 * (size_t)lm[41] + 1] + neutral[3 * (size_t)lm[46] + 1]);
+    for (int e = 0; e < 2; e++) {
+        bd.eye[e][0] = bd.eye[e][1] = 0;
+        for (int k = 36 + 6 * e; k < 42 + 6 * e; k++)
+            for (int c = 0; c < 2; c++) bd.eye[e][c] += neutral[3 * (size_t)lm[k] + c] / 6;
+    }
     fm->side0_sign = neutral[3 * (size_t)lm[0]] < 0 ? -1 : 1;
 
     int narrow = frig_model_region_find(model, "narrow_face");
     int band_first = 0, band_count = nv;
     if (narrow >= 0) frig_model_region(model, narrow, NULL, &band_first, &band_count);
-    if (!s) s = build_rows(ctx, fm, &map, lm, neutral, band_first, band_count, chin_y, eye_y);
+    if (!s) s = build_rows(ctx, fm, &map, lm, neutral, band_first, band_count, &bd);
     /* Triangles with all three corners in slots: normals for the silhouette test. */
     if (!s) {
         int nt = frig_model_triangle_count(model);
@@ -182,6 +226,7 @@ frig_status fr_fit_model_build(frig_ctx *ctx, const frig_model *model, int n_id,
     fm->n_slots = map.count;
     fm->slot_vertex = map.vertex;
     free(map.of_vertex);
+    if (!s) s = build_adjacency(ctx, fm);
     if (!s) s = gather_basis(ctx, fm);
     if (s) fr_fit_model_free(fm);
     return s;
@@ -193,7 +238,10 @@ void fr_fit_model_free(fr_fit_model *fm) {
     free(fm->mean);
     free(fm->basis);
     free(fm->row_slots);
+    free(fm->row_radius);
     free(fm->tris);
+    free(fm->adj_start);
+    free(fm->adj);
     memset(fm, 0, sizeof *fm);
 }
 

@@ -30,9 +30,13 @@ typedef struct fr_fit_model {
      * row_start[k + 1] - 1]. */
     int row_start[FR_CONTOUR_LANDMARKS + 1];
     int *row_slots;
-    /* Triangles over the slots (for silhouette normals): 3 slots each. */
+    double *row_radius; /* per row slot: distance from the face centre in the x-y plane (neutral) */
+    double jaw_radius[FR_CONTOUR_LANDMARKS]; /* the same for each landmark's default vertex */
+    /* Triangles over the slots (for silhouette normals): 3 slots each; and each slot's
+     * neighbours along triangle edges (adj[adj_start[s] .. adj_start[s + 1] - 1]). */
     int n_tris;
     int *tris;
+    int *adj_start, *adj;
     /* Model-space x of the face centre line and the sign of x on side 0. */
     double side0_sign;
 } fr_fit_model;

@@ -265,10 +265,38 @@ static double facing(const fr_fit_photo *p, const double *X, const double *N, in
     return nn > 0 && vn > 0 ? (n[0] * view[0] + n[1] * view[1] + n[2] * view[2]) / (nn * vn) : 1;
 }
 
-/* The jaw landmarks follow the silhouette (section 4.3; as the author's implementation does):
- * each row's silhouette point is its front-facing vertex whose normal is most nearly
- * perpendicular to the view; each jaw landmark then takes the nearest (in the image) of the
- * silhouette points of its own row and the two next to it. */
+/* Normals at the scale of the cheek and jaw: a few rounds of averaging over neighbours,
+ * so that small folds (eyelids, the nasolabial fold) do not count as turning away. */
+#define NORMAL_SMOOTHING_ROUNDS 4
+static void smooth_normals(const fr_fit_model *fm, double *N) {
+    int ns = fm->n_slots;
+    double *T = malloc(sizeof(double) * 3 * (size_t)ns);
+    if (!T) return;
+    for (int round = 0; round < NORMAL_SMOOTHING_ROUNDS; round++) {
+        for (int s = 0; s < ns; s++) {
+            double n[3] = {N[3 * s], N[3 * s + 1], N[3 * s + 2]};
+            double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            double acc[3] = {0, 0, 0};
+            if (len > 0) acc[0] = n[0] / len, acc[1] = n[1] / len, acc[2] = n[2] / len;
+            for (int i = fm->adj_start[s]; i < fm->adj_start[s + 1]; i++) {
+                const double *m = N + 3 * fm->adj[i];
+                double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+                if (l > 0)
+                    for (int c = 0; c < 3; c++) acc[c] += m[c] / l;
+            }
+            memcpy(T + 3 * s, acc, sizeof acc);
+        }
+        memcpy(N, T, sizeof(double) * 3 * (size_t)ns);
+    }
+    free(T);
+}
+
+/* The jaw landmarks follow the face's outline (section 4.3, "the jawline landmarks of a
+ * turned face lie on the silhouette"): on the side facing the camera the outline is the jaw
+ * line itself (the landmark's own vertex); on the side turned away the cheek hides it and
+ * the outline is the occluding contour. So, walking each row outward from the face centre,
+ * if some vertex inside the jaw line faces away from the camera, the landmark moves to the
+ * outermost front-facing vertex inside the first one that does; otherwise it stays. */
 void fr_fit_photo_update_contour(const fr_fit_model *fm, fr_fit_photo *p) {
     int ns = fm->n_slots;
     double *X = malloc(sizeof(double) * 3 * (size_t)ns * 2);
@@ -287,30 +315,44 @@ void fr_fit_photo_update_contour(const fr_fit_model *fm, fr_fit_photo *p) {
         for (int a = 0; a < 3; a++)
             for (int c = 0; c < 3; c++) N[3 * v[a] + c] += n[c];
     }
-    int sil[FR_CONTOUR_LANDMARKS];
-    for (int k = 0; k < FR_CONTOUR_LANDMARKS; k++) {
-        sil[k] = -1;
-        double best = 1e300;
-        for (int i = fm->row_start[k]; i < fm->row_start[k + 1]; i++) {
-            int sl = fm->row_slots[i];
-            double c = facing(p, X, N, sl);
-            if (c > 0.05) continue; /* facing away */
-            if (fabs(c) < best) best = fabs(c), sil[k] = sl;
-        }
+    smooth_normals(fm, N);
+    double *face = malloc(sizeof(double) * (size_t)ns);
+    if (!face) {
+        free(X);
+        return;
     }
+    for (int sl = 0; sl < ns; sl++) face[sl] = facing(p, X, N, sl);
     for (int k = 0; k < FR_CONTOUR_LANDMARKS; k++) {
         if (k == 8) continue;
-        int lo = k == 0 || k == 9 ? k : k - 1, hi = k == 7 || k == 16 ? k : k + 1;
-        double best = 1e300;
-        for (int r = lo; r <= hi; r++) {
-            if (sil[r] < 0) continue;
-            double Xr[3], Xc[3], uv[2];
-            to_camera(p, X + 3 * sil[r], Xr, Xc);
-            project_one(p, Xc, uv, NULL);
-            double d = hypot(uv[0] - p->q[2 * k], uv[1] - p->q[2 * k + 1]);
-            if (d < best) best = d, p->corr[k] = sil[r];
-        }
+        /* Only vertices clearly inside the jaw line (by a tenth of its radius) count, so that
+         * the face's own border near the ears does not. */
+        double jaw_r = 0.9 * fm->jaw_radius[k];
+        int hidden = 0;
+        for (int i = fm->row_start[k]; i < fm->row_start[k + 1] && !hidden; i++)
+            if (fm->row_radius[i] < jaw_r && face[fm->row_slots[i]] > 0) hidden = 1;
+        p->corr[k] = fm->landmark_slot[k];
+        if (!hidden) continue;
+        /* The landmark slides along the occluding contour: the nearest (in the image) front-
+         * facing vertex with a back-facing neighbour, in its own row or the two on each side. */
+        int first = k < 8 ? 0 : 9, last = k < 8 ? 7 : 16;
+        int lo = k - 2 < first ? first : k - 2, hi = k + 2 > last ? last : k + 2;
+        double best = INFINITY;
+        for (int r = lo; r <= hi; r++)
+            for (int i = fm->row_start[r]; i < fm->row_start[r + 1]; i++) {
+                int sl = fm->row_slots[i];
+                if (fm->row_radius[i] >= 0.9 * fm->jaw_radius[r] || face[sl] > 0) continue;
+                int on_contour = 0;
+                for (int j = fm->adj_start[sl]; j < fm->adj_start[sl + 1] && !on_contour; j++)
+                    if (face[fm->adj[j]] > 0) on_contour = 1;
+                if (!on_contour) continue;
+                double Xr[3], Xc[3], uv[2];
+                to_camera(p, X + 3 * sl, Xr, Xc);
+                project_one(p, Xc, uv, NULL);
+                double d = hypot(uv[0] - p->q[2 * k], uv[1] - p->q[2 * k + 1]);
+                if (d < best) best = d, p->corr[k] = sl;
+            }
     }
+    free(face);
     free(X);
 }
 

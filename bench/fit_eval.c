@@ -1,0 +1,289 @@
+/* The fit stage on synthetic ground truth (issue 6's table): for each synthetic subject,
+ * photos rendered by frig synth; landmarks = the truth's detector-like landmarks with noise
+ * and a share of corrupted photos (or our detector's, with --detected); the three schemes
+ * (individual fits only, naive joint fit, progressive Algorithm 2) measured against the
+ * truth: neutral-shape error over the face region after similarity alignment (mm), head
+ * rotation error (deg), expression error (weights, and the face geometry they make, mm),
+ * landmark reprojection error (px).
+ * Usage: fit_eval MODEL [--subjects S] [--photos N] [--noise PCT] [--corrupt FRACTION]
+ *                       [--seed K] [--threads T] [--schemes 012] [--weak] [--detected] */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include <lapacke.h>
+
+#include "core/context.h"
+#include "fit/photo_consistency.h"
+#include "fit/progressive_fit.h"
+#include "frig/frig.h"
+#include "frig/synth.h"
+#include "raster/rotation.h"
+
+typedef struct rng {
+    unsigned long long s;
+} rng;
+static double uniform(rng *r) {
+    r->s += 0x9E3779B97F4A7C15ULL;
+    unsigned long long z = r->s;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return (double)((z ^ (z >> 31)) >> 11) / 9007199254740992.0;
+}
+static double gauss(rng *r) {
+    double u = uniform(r) + 1e-300, v = uniform(r);
+    return sqrt(-2 * log(u)) * cos(2 * M_PI * v);
+}
+
+/* Mean distance (m) between a and b over vertices [0, n) after the similarity transform
+ * (rotation, translation, scale) of b that best fits a. */
+static double aligned_error(const float *a, const float *b, int n) {
+    double ma[3] = {0}, mb[3] = {0};
+    for (int v = 0; v < n; v++)
+        for (int c = 0; c < 3; c++) ma[c] += a[3 * v + c] / n, mb[c] += b[3 * v + c] / n;
+    double S[9] = {0}, sb = 0; /* column-major M = sum (b - mb)(a - ma)^T */
+    for (int v = 0; v < n; v++)
+        for (int i = 0; i < 3; i++) {
+            double bi = b[3 * v + i] - mb[i];
+            sb += bi * bi;
+            for (int j = 0; j < 3; j++) S[i + 3 * j] += bi * (a[3 * v + j] - ma[j]);
+        }
+    double U[9], VT[9], sv[3], sup[2];
+    LAPACKE_dgesvd(LAPACK_COL_MAJOR, 'A', 'A', 3, 3, S, 3, sv, U, 3, VT, 3, sup);
+    /* R = V D U^T maps b onto a, D fixes a reflection. */
+    double det = 0, R[9];
+    for (int pass = 0; pass < 2; pass++) {
+        double d3 = pass == 0 ? 1 : -1;
+        for (int i = 0; i < 3; i++)
+            for (int j = 0; j < 3; j++) {
+                double r = 0;
+                for (int k = 0; k < 3; k++) r += VT[k + 3 * i] * (k == 2 ? d3 : 1) * U[j + 3 * k];
+                R[3 * i + j] = r;
+            }
+        det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) + R[2] * (R[3] * R[7] - R[4] * R[6]);
+        if (det > 0) break;
+    }
+    double scale = (sv[0] + sv[1] + (det > 0 && sv[2] >= 0 ? sv[2] : -sv[2])) / sb;
+    double e = 0;
+    for (int v = 0; v < n; v++) {
+        double d = 0;
+        for (int i = 0; i < 3; i++) {
+            double x = ma[i];
+            for (int j = 0; j < 3; j++) x += scale * R[3 * i + j] * (b[3 * v + j] - mb[j]);
+            d += (x - a[3 * v + i]) * (x - a[3 * v + i]);
+        }
+        e += sqrt(d);
+    }
+    return e / n;
+}
+
+typedef struct row {
+    double neutral_mm, rot_deg, exp_w, exp_mm, reproj_px;
+    int count;
+} row;
+
+static const char *scheme_name[] = {"individual fits only", "naive joint fit", "progressive (Algorithm 2)"};
+
+int main(int argc, char **argv) {
+    if (argc < 2) {
+        fprintf(stderr, "usage: fit_eval MODEL [options]\n");
+        return 2;
+    }
+    int subjects = 3, photos = 30, threads = 0, weak = 0, detected = 0, exact = 0;
+    double noise = 2.0, corrupt = 0.15;
+    unsigned long long seed = 1;
+    const char *schemes = "012";
+    frig_ctx *ctx = frig_ctx_create();
+    for (int i = 2; i < argc; i++) {
+        if (!strcmp(argv[i], "--subjects") && i + 1 < argc) subjects = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--photos") && i + 1 < argc) photos = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--noise") && i + 1 < argc) noise = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--corrupt") && i + 1 < argc) corrupt = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--seed") && i + 1 < argc) seed = strtoull(argv[++i], NULL, 10);
+        else if (!strcmp(argv[i], "--threads") && i + 1 < argc) threads = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--schemes") && i + 1 < argc) schemes = argv[++i];
+        else if (!strcmp(argv[i], "--weak")) weak = 1;
+        else if (!strcmp(argv[i], "--detected")) detected = 1;
+        else if (!strcmp(argv[i], "--exact")) exact = 1;
+        else if (!strcmp(argv[i], "--set") && i + 1 < argc) {
+            /* NAME=VALUE: any parameter (frig help params) */
+            char name[128];
+            const char *eq = strchr(argv[++i], '=');
+            frig_param prm;
+            if (!eq || (size_t)(eq - argv[i]) >= sizeof name) return 2;
+            memcpy(name, argv[i], (size_t)(eq - argv[i]));
+            name[eq - argv[i]] = 0;
+            if (frig_param_lookup(ctx, name, &prm) || frig_ctx_set_param(ctx, prm, atof(eq + 1))) {
+                fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
+                return 2;
+            }
+        }
+        else {
+            fprintf(stderr, "unknown option %s\n", argv[i]);
+            return 2;
+        }
+    }
+    frig_ctx_set_threads(ctx, threads);
+    frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_FAILURE_RATE, 0);
+    frig_model *model = NULL;
+    if (frig_model_load(ctx, argv[1], &model)) {
+        fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
+        return 1;
+    }
+    if (detected) {
+        fprintf(stderr, "--detected needs the detect stage\n");
+        return 2;
+    }
+    fr_fit_model fm;
+    if (fr_fit_model_build(ctx, model, fr_param_int(ctx, FRIG_PARAM_FIT_IDENTITY_MODES), &fm)) return 1;
+    fr_fit_settings st;
+    fr_fit_settings_from_ctx(ctx, &st);
+    if (weak) st.perspective = 0;
+    int nv = frig_model_vertex_count(model), nface = 9409;
+    int fr = frig_model_region_find(model, "face");
+    if (fr >= 0) frig_model_region(model, fr, NULL, NULL, &nface);
+    row rows[3] = {{0}};
+    double seconds[3] = {0};
+    rng r = {seed * 7919 + 17};
+    printf("fit on synthetic ground truth: %d subjects x %d photos, landmarks %s, noise %.1f%% of eye distance, "
+           "%.0f%% corrupted, %s camera\n",
+           subjects, photos, detected ? "from our detector" : "truth (detector-like)", noise, corrupt * 100,
+           st.perspective ? "perspective" : "weak-perspective");
+    printf("%-8s %-26s %10s %9s %9s %9s %9s\n", "subject", "scheme", "neutral mm", "rot deg", "exp |w|", "exp mm",
+           "reproj px");
+    for (int s = 0; s < subjects; s++) {
+        frig_synth_subject *subj = NULL;
+        if (frig_synth_subject_create(ctx, model, seed * 1000 + (unsigned)s, &subj)) return 1;
+        const frig_rig *truth_rig = frig_synth_subject_rig(subj);
+        int nshape = frig_rig_shape_count(truth_rig);
+        fr_fit_input *in = calloc((size_t)photos, sizeof *in);
+        double *lmk = calloc((size_t)photos * 136, sizeof(double));
+        double (*Rt)[9] = calloc((size_t)photos, sizeof *Rt);
+        double *wt = calloc((size_t)photos * nshape, sizeof(double));
+        frig_image **crops = calloc((size_t)photos, sizeof *crops);
+        int n = 0;
+        for (int p = 0; p < photos; p++) {
+            frig_image *img = NULL;
+            frig_synth_truth *tr = NULL;
+            if (frig_synth_render(ctx, subj, seed * 100000 + (unsigned)(s * 1000 + p), FRIG_SYNTH_FAILURE_NONE, &img,
+                                  &tr))
+                return 1;
+            const double *q = frig_synth_truth_landmarks(tr, !exact);
+            double *dst = lmk + 136 * (size_t)n;
+            int ok = q != NULL;
+            if (ok) {
+                double l[2] = {0, 0}, rr[2] = {0, 0};
+                for (int k = 36; k < 42; k++) l[0] += q[2 * k] / 6, l[1] += q[2 * k + 1] / 6;
+                for (int k = 42; k < 48; k++) rr[0] += q[2 * k] / 6, rr[1] += q[2 * k + 1] / 6;
+                double sigma = noise / 100 * hypot(l[0] - rr[0], l[1] - rr[1]);
+                for (int k = 0; k < 136; k++) dst[k] = q[k] + sigma * gauss(&r);
+                if (uniform(&r) < corrupt) {
+                    /* A failed detection: one region (jaw, eyes or mouth) drifts by up to 15% of the face. */
+                    int region = (int)(uniform(&r) * 3);
+                    int a = region == 0 ? 0 : region == 1 ? 36 : 48, b = region == 0 ? 17 : region == 1 ? 48 : 68;
+                    double dx = (uniform(&r) - 0.5) * 0.3 * (q[32] - q[0]), dy = (uniform(&r) - 0.5) * 0.3 * (q[32] - q[0]);
+                    for (int k = a; k < b; k++) dst[2 * k] += dx, dst[2 * k + 1] += dy;
+                }
+            }
+            if (ok) {
+                double t[3];
+                frig_synth_truth_pose(tr, Rt[n], t);
+                memcpy(wt + (size_t)n * nshape, frig_synth_truth_expression(tr), sizeof(double) * (size_t)nshape);
+                in[n].landmarks = dst;
+                in[n].width = frig_image_width(img);
+                in[n].height = frig_image_height(img);
+                if (fr_face_crop(ctx, img, dst, 160, &crops[n], in[n].crop_origin, &in[n].crop_scale)) crops[n] = NULL;
+                in[n].crop = crops[n];
+                n++;
+            }
+            frig_image_free(img);
+            frig_synth_truth_free(tr);
+        }
+        float *truth_neutral = malloc(sizeof(float) * 3 * (size_t)nv), *est = malloc(sizeof(float) * 3 * (size_t)nv);
+        float *truth_exp = malloc(sizeof(float) * 3 * (size_t)nv), *est_exp = malloc(sizeof(float) * 3 * (size_t)nv);
+        memcpy(truth_neutral, frig_rig_neutral(truth_rig), sizeof(float) * 3 * (size_t)nv);
+        fr_fit_result *res = calloc((size_t)n, sizeof *res);
+        double *W = calloc((size_t)n * fm.n_cols, sizeof(double)), identity[1024];
+        for (int i = 0; i < n; i++) res[i].w = W + (size_t)i * fm.n_cols;
+        for (const char *c = schemes; *c; c++) {
+            int sc = *c - '0';
+            clock_t t0 = clock();
+            struct timespec a, b;
+            clock_gettime(CLOCK_MONOTONIC, &a);
+            if (fr_fit_run(ctx, &fm, &st, (fr_fit_scheme)sc, n, in, res, identity)) {
+                fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
+                return 1;
+            }
+            clock_gettime(CLOCK_MONOTONIC, &b);
+            (void)t0;
+            seconds[sc] += (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
+            row o = {0};
+            double *exp_all = calloc((size_t)frig_model_expression_count(model) + 1, sizeof(double));
+            for (int i = 0; i < n; i++) {
+                /* Neutral: this photo's identity (its own for individual fits). */
+                frig_model_eval(ctx, model, res[i].w, NULL, est);
+                o.neutral_mm += aligned_error(truth_neutral, est, nface) * 1000;
+                o.rot_deg += fr_rotation_angle_deg(Rt[i], res[i].R);
+                o.reproj_px += res[i].rms_px;
+                /* Expressions: weights by name, and the face displacement they make. */
+                memset(exp_all, 0, sizeof(double) * (size_t)frig_model_expression_count(model));
+                for (int k = 0; k < fm.n_exp; k++) exp_all[fm.exp_index[k]] = res[i].w[fm.n_id + k];
+                double werr = 0;
+                int nw = 0;
+                for (int k = 0; k < fm.n_exp; k++) {
+                    const char *name = frig_model_expression_name(model, fm.exp_index[k]);
+                    int j = frig_rig_shape_find(truth_rig, name);
+                    double tw = j >= 0 ? wt[(size_t)i * nshape + j] : 0;
+                    werr += fabs(res[i].w[fm.n_id + k] - tw);
+                    nw++;
+                }
+                o.exp_w += werr / nw;
+                frig_model_eval(ctx, model, NULL, exp_all, est_exp);
+                frig_rig_eval(ctx, truth_rig, wt + (size_t)i * nshape, truth_exp);
+                double em = 0;
+                for (int v = 0; v < nface; v++) {
+                    double d = 0;
+                    for (int c = 0; c < 3; c++) {
+                        double de = (double)est_exp[3 * v + c] - frig_model_neutral(model)[3 * v + c];
+                        double dt = (double)truth_exp[3 * v + c] - truth_neutral[3 * v + c];
+                        d += (de - dt) * (de - dt);
+                    }
+                    em += sqrt(d);
+                }
+                o.exp_mm += em / nface * 1000;
+                o.count++;
+            }
+            free(exp_all);
+            printf("%-8d %-26s %10.2f %9.2f %9.3f %9.2f %9.2f\n", s, scheme_name[sc], o.neutral_mm / n, o.rot_deg / n,
+                   o.exp_w / n, o.exp_mm / n, o.reproj_px / n);
+            rows[sc].neutral_mm += o.neutral_mm / n;
+            rows[sc].rot_deg += o.rot_deg / n;
+            rows[sc].exp_w += o.exp_w / n;
+            rows[sc].exp_mm += o.exp_mm / n;
+            rows[sc].reproj_px += o.reproj_px / n;
+            rows[sc].count++;
+        }
+        /* The mean face, for scale. */
+        frig_model_eval(ctx, model, NULL, NULL, est);
+        printf("%-8d %-26s %10.2f   (offset outside the span: %.2f mm RMS)\n", s, "mean face (no fit)",
+               aligned_error(truth_neutral, est, nface) * 1000, frig_synth_subject_offset_rms_mm(subj));
+        for (int i = 0; i < n; i++) frig_image_free(crops[i]);
+        free(crops), free(in), free(lmk), free(Rt), free(wt), free(res), free(W);
+        free(truth_neutral), free(est), free(truth_exp), free(est_exp);
+        frig_synth_subject_free(subj);
+    }
+    printf("\naverage over %d subjects:\n", subjects);
+    for (const char *c = schemes; *c; c++) {
+        int sc = *c - '0';
+        row *o = &rows[sc];
+        printf("%-8s %-26s %10.2f %9.2f %9.3f %9.2f %9.2f   %.2f s per subject\n", "all", scheme_name[sc],
+               o->neutral_mm / o->count, o->rot_deg / o->count, o->exp_w / o->count, o->exp_mm / o->count,
+               o->reproj_px / o->count, seconds[sc] / o->count);
+    }
+    fr_fit_model_free(&fm);
+    frig_model_free(model);
+    frig_ctx_free(ctx);
+    return 0;
+}
