@@ -25,10 +25,16 @@ int cli_usage_error(const char *cmd, const char *fmt, ...) __attribute__((format
 int cli_fail(cli_env *env, const char *cmd);  /* the context's error sentence */
 void cli_note(cli_env *env, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 
+/* --model FILE (given, may be NULL) or the default model path into buf; load it. */
+int cli_model_path(cli_env *env, const char *cmd, const char *given, char *buf, size_t size);
+int cli_load_model(cli_env *env, const char *cmd, const char *given, frig_model **m);
+
 /* Subcommands. */
 int cmd_info(cli_env *env, int argc, char **argv);
 extern const char cmd_info_usage[];
 int cmd_model(cli_env *env, int argc, char **argv);
 extern const char cmd_model_usage[];
+int cmd_synth(cli_env *env, int argc, char **argv);
+extern const char cmd_synth_usage[];
 
 #endif

@@ -41,28 +41,6 @@ static int mkdir_parents(const char *path) {
     return 0;
 }
 
-/* --model FILE or the default path into buf. */
-static int model_path(cli_env *env, const char *given, char *buf, size_t size) {
-    if (given) {
-        snprintf(buf, size, "%s", given);
-        return CLI_OK;
-    }
-    if (frig_model_default_path(env->ctx, buf, size)) return cli_fail(env, "model");
-    return CLI_OK;
-}
-
-static int load_model(cli_env *env, const char *given, frig_model **m) {
-    char path[4096];
-    int rc = model_path(env, given, path, sizeof path);
-    if (rc) return rc;
-    if (frig_model_load(env->ctx, path, m)) {
-        cli_fail(env, "model");
-        fprintf(stderr, "(import one with: frig model import-ict DIR -o %s)\n", path);
-        return CLI_FAILED;
-    }
-    return CLI_OK;
-}
-
 static int import_ict(cli_env *env, int argc, char **argv) {
     const char *dir = NULL, *out = NULL;
     for (int i = 0; i < argc; i++) {
@@ -73,7 +51,7 @@ static int import_ict(cli_env *env, int argc, char **argv) {
     }
     if (!dir) return cli_usage_error("model import-ict", "no ICT-FaceKit folder given");
     char path[4096];
-    int rc = model_path(env, out, path, sizeof path);
+    int rc = cli_model_path(env, "model import-ict", out, path, sizeof path);
     if (rc) return rc;
     frig_model *m = NULL;
     if (frig_model_import_ict(env->ctx, dir, &m)) return cli_fail(env, "model import-ict");
@@ -100,7 +78,7 @@ static int info(cli_env *env, int argc, char **argv) {
         else return cli_usage_error("model info", "unknown argument '%s'", argv[i]);
     }
     frig_model *m = NULL;
-    int rc = load_model(env, given, &m);
+    int rc = cli_load_model(env, "model", given, &m);
     if (rc) return rc;
     printf("vertices %d, polygons %d, triangles %d, uvs %d, materials %d\n", frig_model_vertex_count(m),
            frig_model_polygon_count(m), frig_model_triangle_count(m), frig_model_uv_count(m),
@@ -193,7 +171,7 @@ static int export_cmd(cli_env *env, int argc, char **argv) {
     }
     if (!out) return cli_usage_error("model export", "no output folder given (-o OUT)");
     frig_model *m = NULL;
-    int rc = load_model(env, given, &m);
+    int rc = cli_load_model(env, "model", given, &m);
     if (rc) return rc;
     int k = frig_model_identity_count(m);
     double *w = calloc((size_t)k + 1, sizeof *w);

@@ -11,6 +11,7 @@
 static const cli_command commands[] = {
     {"info", cmd_info, "describe images as libfrig reads them", cmd_info_usage},
     {"model", cmd_model, "import the ICT-FaceKit model, describe it, export its rig", cmd_model_usage},
+    {"synth", cmd_synth, "render synthetic subjects and photos with their ground truth", cmd_synth_usage},
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
 

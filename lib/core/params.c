@@ -53,10 +53,12 @@ static const param_row rows[] = {
 
     {FRIG_PARAM_SYNTH_MAX_YAW, "synth.max_yaw", 60, 0, 90, 0, "largest head yaw of synthetic photos, degrees"},
     {FRIG_PARAM_SYNTH_OFFSET_MM, "synth.offset_mm", 4, 0, 50, 0,
-     "amplitude of the personal displacement outside the model's span, mm"},
+     "RMS over the face of a synthetic subject's personal displacement before its in-span part is removed, mm"},
     {FRIG_PARAM_SYNTH_FAILURE_RATE, "synth.failure_rate", 0.1, 0, 1, 0,
      "share of synthetic photos that are intended failures"},
     {FRIG_PARAM_SYNTH_IMAGE_SIZE, "synth.image_size", 512, 64, 8192, 1, "side of synthetic photos, pixels"},
+    {FRIG_PARAM_SYNTH_RIG_OBJ, "synth.rig_obj", 1, 0, 1, 1,
+     "1: write each synthetic subject's true rig as OBJ files too (about 150 MB a subject)"},
 };
 
 #define N_ROWS (sizeof rows / sizeof rows[0])
