@@ -214,8 +214,12 @@ static void landmark_terms(const problem *pb, double *r, double *J, double *scra
         for (int a = 0; a < 2; a++)
             for (int j = 0; j < 3; j++)
                 PR[3 * a + j] = P[3 * a] * p->R[j] + P[3 * a + 1] * p->R[3 + j] + P[3 * a + 2] * p->R[6 + j];
-        const double *B = fr_fit_model_row(fm, slot, 0); /* 3 rows of n_cols, contiguous */
-        cblas_dgemm(CblasRowMajor, CblasNoTrans, CblasNoTrans, 2, nc, 3, 1.0, PR, 3, B, nc, 0.0, PRB, nc);
+        /* (P R) times the slot's 3 basis rows (contiguous): too small for a BLAS call. */
+        const double *B0 = fr_fit_model_row(fm, slot, 0), *B1 = B0 + nc, *B2 = B1 + nc;
+        for (int c = 0; c < nc; c++) {
+            PRB[c] = PR[0] * B0[c] + PR[1] * B1[c] + PR[2] * B2[c];
+            PRB[nc + c] = PR[3] * B0[c] + PR[4] * B1[c] + PR[5] * B2[c];
+        }
         for (int c = 0; c < pb->n_params; c++) {
             int full_i = pb->param[c];
             double j0 = full_i < POSE_PARAMS ? full[0][full_i] : PRB[full_i - POSE_PARAMS];

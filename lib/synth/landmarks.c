@@ -11,8 +11,8 @@
 #include "synth/synth.h"
 
 #define VISIBLE_TOL 0.002     /* metres behind the visible surface still counted as on it */
-#define SILHOUETTE_JUMP 0.01  /* metres of depth between a silhouette and what lies behind it */
 #define SCAN_STEP 0.5         /* pixels */
+#define LEAD 3.0              /* pixels from a jaw vertex's projection to the outline face's pixels */
 
 static int outline_pixel(const frig_synth_subject *s, const fr_raster *r, int x, int y) {
     if (x < 0 || y < 0 || x >= r->width || y >= r->height) return 0;
@@ -21,11 +21,10 @@ static int outline_pixel(const frig_synth_subject *s, const fr_raster *r, int x,
 }
 
 /* Jaw point k: from the vertex's projection outward (the jaw line's outward normal in the
- * face plane, through the pose) to the first place where the outline face ends at a
- * silhouette (background, or a surface more than SILHOUETTE_JUMP further away), when there
- * is one: a hidden far-side point goes to the cheek's silhouette, a visible point on the jaw
- * line stays (its outward neighbour is the neck or ear at the same depth, or it is already
- * on the silhouette). */
+ * face plane, through the pose) to where the outline face's pixels end, when the projection
+ * lies on them or within LEAD pixels of them: a hidden far-side point goes to the cheek's
+ * silhouette, a near-side point of a turned face to the face's visible edge toward the ear,
+ * a point on the jaw line of a frontal face stays (within a pixel or two). */
 static void jaw_to_outline(const frig_synth_subject *s, const fr_synth_photo *p, const fr_raster *r, int k,
                            fr_synth_landmarks *lm) {
     double u = lm->exact[2 * k], v = lm->exact[2 * k + 1], d[3];
@@ -33,25 +32,25 @@ static void jaw_to_outline(const frig_synth_subject *s, const fr_synth_photo *p,
     fr_mat3_apply(p->R, s->jaw_normal[k], d);
     double len = sqrt(d[0] * d[0] + d[1] * d[1]);
     if (!(len > 1e-3)) return;
-    double dx = d[0] / len, dy = d[1] / len, px = u, py = v, prev_depth = 0.0;
-    int prev_mask = 0;
+    double dx = d[0] / len, dy = d[1] / len, px = u, py = v;
+    int on = 0; /* reached the outline face */
     for (double step = 0.0;; step += SCAN_STEP) {
         double x = u + step * dx, y = v + step * dy;
         int xi = (int)lround(x), yi = (int)lround(y);
-        if (xi < 0 || yi < 0 || xi >= r->width || yi >= r->height) return;
-        size_t i = (size_t)yi * (size_t)r->width + (size_t)xi;
-        int mask = outline_pixel(s, r, xi, yi);
-        if (prev_mask && !mask && (r->tri[i] < 0 || r->depth[i] - prev_depth > SILHOUETTE_JUMP)) {
-            double ex = 0.5 * (px + x), ey = 0.5 * (py + y);
-            if (hypot(ex - u, ey - v) > 0.5) {
-                lm->detector[2 * k] = ex;
-                lm->detector[2 * k + 1] = ey;
-                lm->jaw_moved[k] = 1;
-            }
-            return;
+        int inside = xi >= 0 && yi >= 0 && xi < r->width && yi < r->height;
+        if (inside && outline_pixel(s, r, xi, yi)) {
+            on = 1, px = x, py = y;
+            continue;
         }
-        if (mask) prev_depth = r->depth[i];
-        prev_mask = mask, px = x, py = y;
+        if (!inside || (!on && step >= LEAD)) return; /* off the image, or not on the face */
+        if (!on) continue;
+        double ex = 0.5 * (px + x), ey = 0.5 * (py + y);
+        if (hypot(ex - u, ey - v) > 0.5) {
+            lm->detector[2 * k] = ex;
+            lm->detector[2 * k + 1] = ey;
+            lm->jaw_moved[k] = 1;
+        }
+        return;
     }
 }
 

@@ -28,9 +28,11 @@ static int hidden_material(const char *name) {
     return 0;
 }
 
-/* (x, y) of the mean face inside the jaw line (landmarks 0..16, closed by lines straight up
- * from its ends): the part of the face whose outline a landmark detector follows. */
-static int inside_jaw(const frig_model *m, const float *x) {
+/* The part of the face whose outline a landmark detector follows, in the mean face's (x, y):
+ * inside the jaw line (landmarks 0..16, closed by lines straight up from its ends), or above
+ * landmark 3 (the side of the cheek toward the ear, which outlines a turned face). */
+static int outline_face(const frig_model *m, const float *x) {
+    if (x[1] > m->neutral[3 * (size_t)m->landmarks[3] + 1]) return 1;
     double px[19], py[19];
     for (int k = 0; k < 17; k++) {
         const float *q = m->neutral + 3 * (size_t)m->landmarks[k];
@@ -62,7 +64,7 @@ static frig_status drawn_triangles(frig_ctx *ctx, const frig_model *m, frig_synt
         free(jaw);
         return fr_nomem(ctx, "the subject's triangles");
     }
-    for (int v = narrow0; v < narrow0 + nnarrow; v++) jaw[v] = (uint8_t)inside_jaw(m, m->neutral + 3 * (size_t)v);
+    for (int v = narrow0; v < narrow0 + nnarrow; v++) jaw[v] = (uint8_t)outline_face(m, m->neutral + 3 * (size_t)v);
     s->nt = 0;
     for (int k = 0; k < t->triangle_count; k++) {
         if (hidden_material(t->material_names[t->triangle_materials[k]])) continue;
