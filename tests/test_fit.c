@@ -1,0 +1,287 @@
+/* The fit stage on synthetic ground truth (frig synth): subjects outside the model's span,
+ * landmarks = the truth's detector-like landmarks + noise, some photos corrupted. Checks
+ * that the progressive scheme recovers the neutral shape better than the mean face and
+ * than individual fits, head poses within a few degrees, sparse expressions; that results do
+ * not depend on the thread count; and frig_fit on a photo set (statuses, report round trip). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <lapacke.h>
+
+#include "core/context.h"
+#include "fit/photo_consistency.h"
+#include "fit/progressive_fit.h"
+#include "frig/synth.h"
+#include "model_fixture.h"
+#include "raster/rotation.h"
+#include "testing.h"
+#include "workspace/photoset.h"
+
+#define PHOTOS 16
+#define SIZE 320
+
+typedef struct data {
+    int n;
+    fr_fit_input in[PHOTOS];
+    double landmarks[PHOTOS][136];
+    double R[PHOTOS][9];
+    int truth_active; /* truth expression weights above 0.15, summed over the good photos */
+    frig_image *photo[PHOTOS];
+    frig_image *crop[PHOTOS];
+    const frig_rig *truth;
+} data;
+
+static unsigned long long rng_state = 12345;
+static double uniform(void) {
+    rng_state += 0x9E3779B97F4A7C15ULL;
+    unsigned long long z = rng_state;
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return (double)((z ^ (z >> 31)) >> 11) / 9007199254740992.0;
+}
+static double gauss(void) { return sqrt(-2 * log(uniform() + 1e-300)) * cos(2 * M_PI * uniform()); }
+
+/* Mean distance after the best similarity transform of b onto a (first n vertices). */
+static double aligned_error(const float *a, const float *b, int n) {
+    double ma[3] = {0}, mb[3] = {0}, S[9] = {0}, sb = 0;
+    for (int v = 0; v < n; v++)
+        for (int c = 0; c < 3; c++) ma[c] += a[3 * v + c] / n, mb[c] += b[3 * v + c] / n;
+    for (int v = 0; v < n; v++)
+        for (int i = 0; i < 3; i++) {
+            double bi = b[3 * v + i] - mb[i];
+            sb += bi * bi;
+            for (int j = 0; j < 3; j++) S[i + 3 * j] += bi * (a[3 * v + j] - ma[j]);
+        }
+    double U[9], VT[9], sv[3], sup[2], R[9];
+    LAPACKE_dgesvd(LAPACK_COL_MAJOR, 'A', 'A', 3, 3, S, 3, sv, U, 3, VT, 3, sup);
+    for (int i = 0; i < 3; i++)
+        for (int j = 0; j < 3; j++) {
+            double r = 0;
+            for (int k = 0; k < 3; k++) r += VT[k + 3 * i] * U[j + 3 * k];
+            R[3 * i + j] = r;
+        }
+    double scale = (sv[0] + sv[1] + sv[2]) / sb, e = 0;
+    for (int v = 0; v < n; v++) {
+        double d = 0;
+        for (int i = 0; i < 3; i++) {
+            double x = ma[i];
+            for (int j = 0; j < 3; j++) x += scale * R[3 * i + j] * (b[3 * v + j] - mb[j]);
+            d += (x - a[3 * v + i]) * (x - a[3 * v + i]);
+        }
+        e += sqrt(d);
+    }
+    return e / n;
+}
+
+static int make_data(frig_ctx *ctx, const frig_synth_subject *subj, uint64_t seed, data *d) {
+    memset(d, 0, sizeof *d);
+    d->truth = frig_synth_subject_rig(subj);
+    for (int p = 0; p < PHOTOS; p++) {
+        frig_image *img = NULL;
+        frig_synth_truth *tr = NULL;
+        if (frig_synth_render(ctx, subj, seed + (uint64_t)p, FRIG_SYNTH_FAILURE_NONE, &img, &tr)) return 0;
+        const double *q = frig_synth_truth_landmarks(tr, 1);
+        double l[2] = {0, 0}, r[2] = {0, 0};
+        for (int k = 36; k < 42; k++) l[0] += q[2 * k] / 6, l[1] += q[2 * k + 1] / 6;
+        for (int k = 42; k < 48; k++) r[0] += q[2 * k] / 6, r[1] += q[2 * k + 1] / 6;
+        double sigma = 0.02 * hypot(l[0] - r[0], l[1] - r[1]);
+        for (int k = 0; k < 136; k++) d->landmarks[p][k] = q[k] + sigma * gauss();
+        if (p % 7 == 3) /* a failed detection: the mouth drifts by 15% of the face width */
+            for (int k = 48; k < 68; k++) d->landmarks[p][2 * k] += 0.15 * (q[32] - q[0]);
+        double t[3];
+        frig_synth_truth_pose(tr, d->R[p], t);
+        const double *tw = frig_synth_truth_expression(tr);
+        for (int k = 0; k < frig_rig_shape_count(d->truth) && p % 7 != 3; k++) d->truth_active += tw[k] > 0.15;
+        d->in[p].landmarks = d->landmarks[p];
+        d->in[p].width = frig_image_width(img);
+        d->in[p].height = frig_image_height(img);
+        CHECK(fr_face_crop(ctx, img, d->landmarks[p], 160, &d->crop[p], d->in[p].crop_origin, &d->in[p].crop_scale) ==
+              FRIG_OK);
+        d->in[p].crop = d->crop[p];
+        d->photo[p] = img;
+        frig_synth_truth_free(tr);
+    }
+    d->n = PHOTOS;
+    return 1;
+}
+
+static void free_data(data *d) {
+    for (int p = 0; p < d->n; p++) frig_image_free(d->photo[p]), frig_image_free(d->crop[p]);
+}
+
+typedef struct score {
+    double neutral_mm, rot_deg;
+    int active; /* expression weights above 0.15, summed over the good photos */
+} score;
+
+static score run(frig_ctx *ctx, const frig_model *m, const fr_fit_model *fm, const fr_fit_settings *st,
+                 fr_fit_scheme scheme, data *d, double *out_w) {
+    fr_fit_result res[PHOTOS];
+    double identity[512];
+    for (int i = 0; i < d->n; i++) res[i].w = out_w + (size_t)i * fm->n_cols;
+    score s = {0, 0, 0};
+    CHECK(fr_fit_run(ctx, fm, st, scheme, d->n, d->in, res, identity) == FRIG_OK);
+    int nv = frig_model_vertex_count(m), nface = 9409;
+    float *est = malloc(sizeof(float) * 3 * (size_t)nv);
+    int active = 0;
+    for (int i = 0; i < d->n; i++) {
+        frig_model_eval(ctx, m, res[i].w, NULL, est);
+        s.neutral_mm += aligned_error(frig_rig_neutral(d->truth), est, nface) * 1000 / d->n;
+        s.rot_deg += fr_rotation_angle_deg(d->R[i], res[i].R) / d->n;
+        if (i % 7 != 3) /* not the corrupted photos */
+            for (int k = 0; k < fm->n_exp; k++) active += res[i].w[fm->n_id + k] > 0.15;
+        if (getenv("FIT_TEST_VERBOSE") && scheme == FR_SCHEME_PROGRESSIVE) {
+            for (int k = 0; k < fm->n_exp; k++)
+                if (res[i].w[fm->n_id + k] > 0.15)
+                    printf(" %s=%.2f", frig_model_expression_name(m, fm->exp_index[k]), res[i].w[fm->n_id + k]);
+            printf("\n");
+        }
+    }
+    s.active = active;
+    free(est);
+    return s;
+}
+
+static void test_schemes(frig_ctx *ctx, const frig_model *m) {
+    fr_fit_model fm;
+    CHECK(fr_fit_model_build(ctx, m, 100, &fm) == FRIG_OK);
+    fr_fit_settings st;
+    fr_fit_settings_from_ctx(ctx, &st);
+    double *w = malloc(sizeof(double) * PHOTOS * (size_t)fm.n_cols);
+    double *w2 = malloc(sizeof(double) * PHOTOS * (size_t)fm.n_cols);
+    double sum_mean = 0, sum_ind = 0, sum_prog = 0, sum_rot = 0;
+    for (int subject = 0; subject < 2; subject++) {
+        frig_synth_subject *subj = NULL;
+        CHECK(frig_synth_subject_create(ctx, m, 4000 + (uint64_t)subject, &subj) == FRIG_OK);
+        data d;
+        if (!subj || !make_data(ctx, subj, 77000 + 100 * (uint64_t)subject, &d)) {
+            test_failures++;
+            return;
+        }
+        int nv = frig_model_vertex_count(m);
+        float *mean = malloc(sizeof(float) * 3 * (size_t)nv);
+        frig_model_eval(ctx, m, NULL, NULL, mean);
+        double mean_mm = aligned_error(frig_rig_neutral(d.truth), mean, 9409) * 1000;
+        free(mean);
+        score ind = run(ctx, m, &fm, &st, FR_SCHEME_INDIVIDUAL, &d, w);
+        score prog = run(ctx, m, &fm, &st, FR_SCHEME_PROGRESSIVE, &d, w);
+        int good = d.n - (d.n + 3) / 7;
+        printf("subject %d: neutral error (mm, aligned, face region): mean face %.2f, individual %.2f, progressive "
+               "%.2f; rotation error %.2f deg; expressions above 0.15 per good photo: %.2f (truth %.2f)\n",
+               subject, mean_mm, ind.neutral_mm, prog.neutral_mm, prog.rot_deg, (double)prog.active / good,
+               (double)d.truth_active / good);
+        sum_mean += mean_mm / 2, sum_ind += ind.neutral_mm / 2, sum_prog += prog.neutral_mm / 2;
+        sum_rot += prog.rot_deg / 2;
+        CHECK(prog.active <= d.truth_active + 2 * good); /* sparse: at most 2 more active shapes than the truth */
+        if (subject == 0) {
+            /* Threads do not change a bit of the result. */
+            st.threads = 1;
+            run(ctx, m, &fm, &st, FR_SCHEME_PROGRESSIVE, &d, w2);
+            st.threads = 2;
+            score again = run(ctx, m, &fm, &st, FR_SCHEME_PROGRESSIVE, &d, w);
+            CHECK(memcmp(w, w2, sizeof(double) * PHOTOS * (size_t)fm.n_cols) == 0);
+            CHECK(again.neutral_mm == prog.neutral_mm);
+            st.threads = fr_threads(ctx);
+        }
+        free_data(&d);
+        frig_synth_subject_free(subj);
+    }
+    printf("average: mean face %.2f mm, individual fits %.2f mm, progressive %.2f mm, rotation %.2f deg\n", sum_mean,
+           sum_ind, sum_prog, sum_rot);
+    CHECK(sum_prog < sum_ind);
+    CHECK(sum_prog < 0.92 * sum_mean);
+    CHECK(sum_prog < 3.5);
+    CHECK(sum_rot < 5.0);
+    free(w);
+    free(w2);
+    fr_fit_model_free(&fm);
+}
+
+/* frig_fit over a photo set: photos written as JPEG, landmarks as user landmarks. */
+static void test_photoset(frig_ctx *ctx, const frig_model *m) {
+    const char *dir = test_temp_dir("fit_photoset");
+    frig_synth_subject *subj = NULL;
+    CHECK(frig_synth_subject_create(ctx, m, 4100, &subj) == FRIG_OK);
+    data d;
+    if (!subj || !make_data(ctx, subj, 91000, &d)) {
+        test_failures++;
+        return;
+    }
+    frig_photoset *set = NULL;
+    frig_photoset_create(ctx, &set);
+    CHECK(frig_fit(ctx, m, set) == FRIG_ERR_TOO_FEW);
+    for (int p = 0; p < 10; p++) {
+        char path[4200];
+        snprintf(path, sizeof path, "%s/photo_%02d.jpg", dir, p);
+        CHECK(frig_image_save_jpeg(ctx, d.photo[p], path) == FRIG_OK);
+        size_t idx, f;
+        frig_photoset_add(ctx, set, path, &idx);
+        double box[4] = {0, 0, 100, 100};
+        frig_photoset_add_face(ctx, set, idx, box, 1, FRIG_FACE_USER, d.landmarks[p], &f);
+        frig_photoset_set_subject(ctx, set, idx, 0);
+        frig_photoset_set_status(ctx, set, idx, FRIG_PHOTO_OK, NULL);
+    }
+    /* A photo that vanished since detection, and one without a face: reported, not fitted. */
+    size_t gone, noface;
+    frig_photoset_add(ctx, set, "/nonexistent/photo.jpg", &gone);
+    double box[4] = {0, 0, 100, 100};
+    frig_photoset_add_face(ctx, set, gone, box, 1, FRIG_FACE_USER, d.landmarks[0], NULL);
+    frig_photoset_set_subject(ctx, set, gone, 0);
+    frig_photoset_set_status(ctx, set, gone, FRIG_PHOTO_OK, NULL);
+    frig_photoset_add(ctx, set, "/nonexistent/other.jpg", &noface);
+    frig_photoset_set_status(ctx, set, noface, FRIG_PHOTO_NO_FACE, "no face");
+    CHECK(frig_fit(ctx, m, set) == FRIG_OK);
+    CHECK(frig_photoset_status(set, gone) == FRIG_PHOTO_UNREADABLE);
+    CHECK(!frig_photoset_fitted(set, noface));
+    int fitted = 0, joint = 0;
+    for (size_t i = 0; i < 10; i++) {
+        fitted += frig_photoset_fitted(set, i);
+        joint += frig_photoset_fit_in_joint(set, i);
+        CHECK(frig_photoset_fit_error(set, i) < 15);
+    }
+    CHECK(fitted == 10 && joint == 8); /* the last round's joint subset is 0.8 of the photos */
+    const double *id;
+    CHECK(frig_photoset_identity(set, &id) == 100);
+    CHECK(frig_photoset_fit_expression_count(set) == 53);
+    /* The report keeps every fitted number exactly. */
+    char ws[4200];
+    snprintf(ws, sizeof ws, "%s/ws", dir);
+    CHECK(frig_photoset_save(ctx, set, ws) == FRIG_OK);
+    frig_photoset *back = NULL;
+    CHECK(frig_photoset_load(ctx, ws, &back) == FRIG_OK);
+    if (back) {
+        const double *id2;
+        CHECK(frig_photoset_identity(back, &id2) == 100 && memcmp(id, id2, sizeof(double) * 100) == 0);
+        double R1[9], R2[9], t1[3], t2[3], w1[53], w2[53];
+        CHECK(frig_photoset_fit_pose(set, 3, R1, t1, NULL, NULL) == FRIG_OK);
+        CHECK(frig_photoset_fit_pose(back, 3, R2, t2, NULL, NULL) == FRIG_OK);
+        CHECK(memcmp(R1, R2, sizeof R1) == 0 && memcmp(t1, t2, sizeof t1) == 0);
+        CHECK(frig_photoset_fit_expression(set, 3, w1) == FRIG_OK && frig_photoset_fit_expression(back, 3, w2) == FRIG_OK);
+        CHECK(memcmp(w1, w2, sizeof w1) == 0);
+        CHECK(strcmp(frig_photoset_fit_expression_name(back, 0), frig_photoset_fit_expression_name(set, 0)) == 0);
+    }
+    /* Overlays for every fitted photo. */
+    char ov[4200];
+    snprintf(ov, sizeof ov, "%s/overlays", dir);
+    CHECK(frig_fit_write_overlays(ctx, m, set, ov) == FRIG_OK);
+    snprintf(ov, sizeof ov, "%s/overlays/photo_05.jpg", dir);
+    CHECK(test_file_exists(ov));
+    frig_photoset_free(back);
+    frig_photoset_free(set);
+    free_data(&d);
+    frig_synth_subject_free(subj);
+}
+
+int main(void) {
+    frig_ctx *ctx = frig_ctx_create();
+    frig_model *m = fixture_model(ctx);
+    if (!m) return test_skip("the ICT-FaceKit model (../shared/ict-facekit) is not available");
+    frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_IMAGE_SIZE, SIZE);
+    frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_MAX_YAW, 50);
+    test_schemes(ctx, m);
+    test_photoset(ctx, m);
+    frig_model_free(m);
+    frig_ctx_free(ctx);
+    return test_result("test_fit");
+}
