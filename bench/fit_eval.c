@@ -209,7 +209,6 @@ int main(int argc, char **argv) {
         for (int i = 0; i < n; i++) res[i].w = W + (size_t)i * fm.n_cols;
         for (const char *c = schemes; *c; c++) {
             int sc = *c - '0';
-            clock_t t0 = clock();
             struct timespec a, b;
             clock_gettime(CLOCK_MONOTONIC, &a);
             if (fr_fit_run(ctx, &fm, &st, (fr_fit_scheme)sc, n, in, res, identity)) {
@@ -217,7 +216,6 @@ int main(int argc, char **argv) {
                 return 1;
             }
             clock_gettime(CLOCK_MONOTONIC, &b);
-            (void)t0;
             seconds[sc] += (double)(b.tv_sec - a.tv_sec) + 1e-9 * (double)(b.tv_nsec - a.tv_nsec);
             row o = {0};
             double *exp_all = calloc((size_t)frig_model_expression_count(model) + 1, sizeof(double));
@@ -245,9 +243,9 @@ int main(int argc, char **argv) {
                 double em = 0;
                 for (int v = 0; v < nface; v++) {
                     double d = 0;
-                    for (int c = 0; c < 3; c++) {
-                        double de = (double)est_exp[3 * v + c] - frig_model_neutral(model)[3 * v + c];
-                        double dt = (double)truth_exp[3 * v + c] - truth_neutral[3 * v + c];
+                    for (int e = 0; e < 3; e++) {
+                        double de = (double)est_exp[3 * v + e] - frig_model_neutral(model)[3 * v + e];
+                        double dt = (double)truth_exp[3 * v + e] - truth_neutral[3 * v + e];
                         d += (de - dt) * (de - dt);
                     }
                     em += sqrt(d);
