@@ -38,6 +38,11 @@ void fr_progress(frig_ctx *ctx, const char *stage, size_t done, size_t total);
 /* Inside a parallel loop: count one more item done and report it. */
 void fr_progress_tick(frig_ctx *ctx, atomic_size_t *counter, const char *stage, size_t total);
 
+/* A context for one item of a parallel loop (e.g. one photo), so each item's error sentence
+ * is its own: the parent's parameters and log callback, one thread, no progress callback, no
+ * error, not cancelled (check the parent's flag between items). Needs no freeing. */
+void fr_ctx_init_child(frig_ctx *child, const frig_ctx *parent);
+
 /* Nonzero once frig_ctx_cancel() was called. */
 int fr_cancelled(const frig_ctx *ctx);
 /* Sets the error and returns FRIG_ERR_CANCELLED when cancelled, else FRIG_OK. */

