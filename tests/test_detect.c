@@ -443,6 +443,46 @@ static void test_photoset(void) {
     CHECK(test_file_exists(a) && test_file_exists(b));
 }
 
+/* A photo stored sideways with an EXIF orientation tag: boxes and landmarks come out in the
+ * upright photo's pixels, as for the same photo stored upright (both re-encoded as JPEG). */
+static void test_exif(void) {
+    frig_image *orig = load("photos/landmarks_dlib_examples_faces_predicted/2008_002506.jpg", 0);
+    if (!orig) return;
+    frig_image *sideways = fr_image_orient(orig, 8); /* turned a quarter left; tag 6 turns it back */
+    const char *dir = test_temp_dir("detect_exif");
+    char path[2][4300];
+    for (int k = 0; k < 2; k++) {
+        unsigned char *data = NULL;
+        size_t size = 0;
+        snprintf(path[k], sizeof path[k], "%s/%s.jpg", dir, k ? "tagged" : "upright");
+        CHECK(sideways && fr_jpeg_encode(ctx, k ? sideways : orig, 95, k ? 6 : 0, &data, &size) == FRIG_OK);
+        CHECK(data && fr_write_file_atomic(ctx, path[k], data, size) == FRIG_OK);
+        free(data);
+    }
+    frig_photoset *set = NULL;
+    CHECK(frig_photoset_create(ctx, &set) == FRIG_OK);
+    for (int k = 0; k < 2; k++) CHECK(frig_photoset_add(ctx, set, path[k], NULL) == FRIG_OK);
+    CHECK(frig_detect_photoset(ctx, det, set) == FRIG_OK);
+    int w[2], h[2];
+    for (int k = 0; k < 2; k++) frig_photoset_size(set, (size_t)k, &w[k], &h[k]);
+    CHECK(w[0] == orig->width && h[0] == orig->height && w[1] == w[0] && h[1] == h[0] && w[0] != h[0]);
+    size_t n = frig_photoset_face_count(set, 0), close = 0;
+    CHECK(n >= 3 && frig_photoset_face_count(set, 1) == n);
+    for (size_t f = 0; f < n && frig_photoset_face_count(set, 1) == n; f++) {
+        double a[4], b[4], la[136], lb[136];
+        frig_photoset_face_box(set, 0, f, a);
+        frig_photoset_face_box(set, 1, f, b);
+        CHECK(frig_photoset_face_landmarks(set, 0, f, la) == FRIG_OK);
+        CHECK(frig_photoset_face_landmarks(set, 1, f, lb) == FRIG_OK);
+        close += fr_box_iou(a, b) >= 0.9 && lm_nme(lb, la) <= 0.05;
+    }
+    printf("EXIF orientation 6: %zu of %zu faces where the upright copy has them\n", close, n);
+    CHECK(close == n);
+    frig_photoset_free(set);
+    frig_image_free(sideways);
+    frig_image_free(orig);
+}
+
 int main(void) {
     ctx = frig_ctx_create();
     test_missing_files();
@@ -463,6 +503,7 @@ int main(void) {
         test_max_side();
         test_threads();
         test_photoset();
+        test_exif();
         skipped = test_against_dlib();
     }
     frig_detector_free(det);
