@@ -443,6 +443,40 @@ static void test_photoset(void) {
     CHECK(test_file_exists(a) && test_file_exists(b));
 }
 
+/* Progress arrives in order up to the photo count; a cancel from the callback stops the run. */
+typedef struct ticks {
+    size_t calls, last, total;
+    int ordered, cancel_at;
+    frig_ctx *ctx;
+} ticks;
+
+static void on_progress(void *user, const char *stage, size_t done, size_t total) {
+    ticks *t = user;
+    if (strcmp(stage, "detect") != 0) return;
+    t->ordered &= t->calls == 0 || done >= t->last;
+    t->calls++;
+    t->last = done;
+    t->total = total;
+    if (t->cancel_at && done >= (size_t)t->cancel_at) frig_ctx_cancel(t->ctx);
+}
+
+static void test_progress_and_cancel(void) {
+    frig_photoset *set = NULL;
+    CHECK(frig_photoset_create(ctx, &set) == FRIG_OK);
+    for (size_t i = 0; i < N_REF; i++) CHECK(frig_photoset_add(ctx, set, test_shared_path(ref_photos[i]), NULL) == FRIG_OK);
+    for (int cancel = 0; cancel < 2; cancel++) {
+        frig_ctx *c = frig_ctx_create();
+        ticks t = {0, 0, 0, 1, cancel ? 2 : 0, c};
+        frig_ctx_set_progress(c, on_progress, &t);
+        CHECK(frig_ctx_set_threads(c, 2) == FRIG_OK);
+        frig_status st = frig_detect_photoset(c, det, set);
+        if (!cancel) CHECK(st == FRIG_OK && t.ordered && t.last == N_REF && t.total == N_REF && t.calls == N_REF + 1);
+        else CHECK(st == FRIG_ERR_CANCELLED && strstr(frig_ctx_errmsg(c), "cancel") && t.last < N_REF);
+        frig_ctx_free(c);
+    }
+    frig_photoset_free(set);
+}
+
 /* A photo stored sideways with an EXIF orientation tag: boxes and landmarks come out in the
  * upright photo's pixels, as for the same photo stored upright (both re-encoded as JPEG). */
 static void test_exif(void) {
@@ -504,6 +538,7 @@ int main(void) {
         test_threads();
         test_photoset();
         test_exif();
+        test_progress_and_cancel();
         skipped = test_against_dlib();
     }
     frig_detector_free(det);

@@ -3,7 +3,6 @@
  * yellow, user-supplied ones blue), its 68 landmarks, and the status written on it; an
  * unreadable photo becomes a gray card carrying its status and reason. */
 #include <math.h>
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -99,36 +98,23 @@ static char *overlay_name(const char *dir, size_t index, size_t count, const cha
     return path;
 }
 
+typedef struct overlay_job {
+    const frig_photoset *set;
+    const char *dir;
+} overlay_job;
+
+static frig_status overlay_item(frig_ctx *child, size_t i, void *user) {
+    const overlay_job *job = user;
+    char *path = overlay_name(job->dir, i, job->set->count, job->set->photos[i].path);
+    frig_status st = path ? overlay_photo(child, &job->set->photos[i], path) : fr_nomem(child, "a path");
+    free(path);
+    return st;
+}
+
 frig_status frig_detect_write_overlays(frig_ctx *ctx, const frig_photoset *set, const char *dir) {
     if (!set || !dir) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_detect_write_overlays: NULL argument");
     frig_status st = fr_make_dirs(ctx, dir);
     if (st) return st;
-    size_t n = set->count;
-    frig_status *fails = calloc(n ? n : 1, sizeof *fails);
-    char (*msgs)[FR_ERRMSG_SIZE] = calloc(n ? n : 1, sizeof *msgs);
-    if (!fails || !msgs) {
-        free(fails);
-        free(msgs);
-        return fr_nomem(ctx, "overlay results");
-    }
-    atomic_size_t done;
-    atomic_init(&done, 0);
-    fr_progress(ctx, "overlays", 0, n);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(fr_threads(ctx))
-    for (size_t i = 0; i < n; i++) {
-        if (fr_cancelled(ctx)) continue;
-        frig_ctx child;
-        fr_ctx_init_child(&child, ctx);
-        char *path = overlay_name(dir, i, n, set->photos[i].path);
-        fails[i] = path ? overlay_photo(&child, &set->photos[i], path) : fr_nomem(&child, "a path");
-        if (fails[i]) snprintf(msgs[i], sizeof msgs[i], "%s", frig_ctx_errmsg(&child));
-        free(path);
-        fr_progress_tick(ctx, &done, "overlays", n);
-    }
-    st = fr_check_cancel(ctx, "writing overlays");
-    for (size_t i = 0; i < n && !st; i++)
-        if (fails[i]) st = fr_error(ctx, fails[i], "%s", msgs[i]);
-    free(fails);
-    free(msgs);
-    return st;
+    overlay_job job = {set, dir};
+    return fr_parallel_items(ctx, set->count, "overlays", overlay_item, &job);
 }

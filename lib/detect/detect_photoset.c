@@ -2,7 +2,6 @@
  * upright RGB, its faces found (or taken from the user's landmark files), the subject chosen
  * and the photo's status set. Parallel across photos, each photo in its own slot, so the
  * result is the same whatever the thread count; one bad photo never stops the run. */
-#include <stdatomic.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -71,32 +70,27 @@ static frig_status detect_photo(frig_ctx *child, const frig_detector *det, frig_
     return st;
 }
 
+typedef struct photo_job {
+    const frig_detector *det;
+    frig_photoset *set;
+} photo_job;
+
+/* The loop's item: a failure of the run gets the photo's path in front of its sentence. */
+static frig_status photo_item(frig_ctx *child, size_t i, void *user) {
+    const photo_job *job = user;
+    frig_photoset *set = job->set;
+    frig_status st = detect_photo(child, job->det, set, i);
+    if (st) {
+        char msg[FR_ERRMSG_SIZE];
+        snprintf(msg, sizeof msg, "%s", frig_ctx_errmsg(child));
+        frig_ctx_clear_error(child);
+        fr_error(child, st, "%s: %s", set->photos[i].path, msg);
+    }
+    return st;
+}
+
 frig_status frig_detect_photoset(frig_ctx *ctx, const frig_detector *det, frig_photoset *set) {
     if (!det || !set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_detect_photoset: NULL argument");
-    size_t n = set->count;
-    frig_status *fails = calloc(n ? n : 1, sizeof *fails);
-    char (*msgs)[FR_ERRMSG_SIZE] = calloc(n ? n : 1, sizeof *msgs);
-    if (!fails || !msgs) {
-        free(fails);
-        free(msgs);
-        return fr_nomem(ctx, "the detect stage's per-photo results");
-    }
-    atomic_size_t done;
-    atomic_init(&done, 0);
-    fr_progress(ctx, "detect", 0, n);
-#pragma omp parallel for schedule(dynamic, 1) num_threads(fr_threads(ctx))
-    for (size_t i = 0; i < n; i++) {
-        if (fr_cancelled(ctx)) continue;
-        frig_ctx child;
-        fr_ctx_init_child(&child, ctx);
-        fails[i] = detect_photo(&child, det, set, i);
-        if (fails[i]) snprintf(msgs[i], sizeof msgs[i], "%s: %s", set->photos[i].path, frig_ctx_errmsg(&child));
-        fr_progress_tick(ctx, &done, "detect", n);
-    }
-    frig_status st = fr_check_cancel(ctx, "the detect stage");
-    for (size_t i = 0; i < n && !st; i++)
-        if (fails[i]) st = fr_error(ctx, fails[i], "%s", msgs[i]);
-    free(fails);
-    free(msgs);
-    return st;
+    photo_job job = {det, set};
+    return fr_parallel_items(ctx, set->count, "detect", photo_item, &job);
 }
