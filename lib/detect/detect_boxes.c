@@ -51,9 +51,10 @@ static void mirror_rows(uint8_t *p, int w, int h) {
     }
 }
 
-/* Append one cascade's boxes (in the w x h working image) scaled by 'up' to full pixels. */
+/* Append one cascade's boxes (in the w x h working image) scaled by up[0], up[1] to full pixels. */
 static frig_status run_one(frig_ctx *ctx, const frig_detector *det, const fr_cascade *c, const uint8_t *px, int w,
-                           int h, int mirrored, double up, int source, fr_detected_face **faces, size_t *count) {
+                           int h, int mirrored, const double up[2], int source, fr_detected_face **faces,
+                           size_t *count) {
     fr_cascade_box *b = NULL;
     size_t n = 0;
     frig_status st = fr_cascade_detect(ctx, c, px, w, h, (size_t)w, det->scale_factor, det->min_neighbors,
@@ -69,10 +70,10 @@ static frig_status run_one(frig_ctx *ctx, const frig_detector *det, const fr_cas
         fr_detected_face *f = &v[(*count)++];
         memset(f, 0, sizeof *f);
         double x = mirrored ? (double)(w - b[i].x - b[i].w) : (double)b[i].x;
-        f->box[0] = x * up;
-        f->box[1] = b[i].y * up;
-        f->box[2] = b[i].w * up;
-        f->box[3] = b[i].h * up;
+        f->box[0] = x * up[0];
+        f->box[1] = b[i].y * up[1];
+        f->box[2] = b[i].w * up[0];
+        f->box[3] = b[i].h * up[1];
         f->score = b[i].neighbors;
         f->source = source;
     }
@@ -89,7 +90,7 @@ frig_status fr_detect_cascade_boxes(frig_ctx *ctx, const frig_detector *det, con
     if ((which & (FR_DETECT_RUN_PROFILE | FR_DETECT_RUN_PROFILE_MIRRORED)) && !det->profile)
         return fr_error(ctx, FRIG_ERR_STATE, "the detector was created with detect.profile = 0 (no profile cascade)");
     int w = gray->width, h = gray->height, side = w > h ? w : h;
-    double up = 1.0;
+    double up[2] = {1.0, 1.0};
     uint8_t *work = NULL;
     if (side > det->max_side) {
         double s = (double)det->max_side / side;
@@ -98,7 +99,8 @@ frig_status fr_detect_cascade_boxes(frig_ctx *ctx, const frig_detector *det, con
         dh = dh < 1 ? 1 : dh;
         work = downscale(gray, dw, dh);
         if (!work) return fr_nomem(ctx, "a downscaled photo");
-        up = (double)w / dw;
+        up[0] = (double)w / dw;
+        up[1] = (double)h / dh;
         w = dw;
         h = dh;
     } else if (gray->stride != (size_t)w || (which & FR_DETECT_RUN_PROFILE_MIRRORED)) {
