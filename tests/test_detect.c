@@ -169,6 +169,12 @@ static void test_user_files(void) {
         CHECK(fr_read_pts(ctx, path, lm) == FRIG_ERR_CORRUPT);
     }
     pts_text(text, sizeof text, lm, 1.0);
+    char *third = strstr(text, "{\n") + 2;
+    third = strchr(strchr(third, '\n') + 1, '\n') + 1;
+    memcpy(third, "nan", 3); /* the third point's x */
+    write_text(path, text);
+    CHECK(fr_read_pts(ctx, path, lm) == FRIG_ERR_CORRUPT);
+    pts_text(text, sizeof text, lm, 1.0);
     strcat(text, "extra\n");
     write_text(path, text);
     CHECK(fr_read_pts(ctx, path, lm) == FRIG_OK);

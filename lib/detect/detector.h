@@ -106,6 +106,7 @@ double fr_subject_score(const double box[4], int width, int height);
  * file used (new string) or NULL. */
 frig_status fr_user_landmarks(frig_ctx *ctx, const char *photo_path, fr_detected_face **faces, size_t *count,
                               char **file);
+/* One face from an iBUG .pts file, shifted to 0-based; landmarks untouched on failure. */
 frig_status fr_read_pts(frig_ctx *ctx, const char *path, double *landmarks);
 frig_status fr_read_landmarks_json(frig_ctx *ctx, const char *path, fr_detected_face **faces, size_t *count);
 

@@ -57,9 +57,10 @@ frig_status fr_read_pts(frig_ctx *ctx, const char *path, double *lm) {
         const char *c = strchr(np, ':');
         if (c) declared = strtol(c + 1, NULL, 10);
     }
-    int n = 0;
+    int n = 0, bad_value = 0;
+    double pts[2 * FRIG_LANDMARK_COUNT];
     const char *p = brace ? brace + 1 : NULL;
-    while (p && n <= FRIG_LANDMARK_COUNT) {
+    while (p && n <= FRIG_LANDMARK_COUNT && !bad_value) {
         char *end;
         double x = strtod(p, &end);
         if (end == p) break;
@@ -67,19 +68,20 @@ frig_status fr_read_pts(frig_ctx *ctx, const char *path, double *lm) {
         double y = strtod(p, &end);
         if (end == p) break;
         p = end;
+        bad_value = !plausible(x) || !plausible(y);
         if (n < FRIG_LANDMARK_COUNT) {
-            lm[2 * n] = x - 1.0; /* iBUG files are 1-based (Matlab) */
-            lm[2 * n + 1] = y - 1.0;
+            pts[2 * n] = x - 1.0; /* iBUG files are 1-based (Matlab) */
+            pts[2 * n + 1] = y - 1.0;
         }
         n++;
-        if (!plausible(x) || !plausible(y)) n = -1000;
     }
     while (p && (*p == ' ' || *p == '\t' || *p == '\r' || *p == '\n')) p++;
     int closed = p && *p == '}';
     free(text);
-    if (!brace || !closed || n != FRIG_LANDMARK_COUNT || (declared >= 0 && declared != FRIG_LANDMARK_COUNT))
+    if (!brace || !closed || bad_value || n != FRIG_LANDMARK_COUNT || (declared >= 0 && declared != FRIG_LANDMARK_COUNT))
         return fr_error(ctx, FRIG_ERR_CORRUPT,
                         "%s is not a 68-point iBUG .pts file (want 'n_points: 68' and { 68 lines of 'x y' })", path);
+    memcpy(lm, pts, sizeof pts);
     return FRIG_OK;
 }
 
