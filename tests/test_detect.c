@@ -178,6 +178,29 @@ static void test_user_files(void) {
     strcat(text, "extra\n");
     write_text(path, text);
     CHECK(fr_read_pts(ctx, path, lm) == FRIG_OK);
+    /* Every cut of a .pts (before its closing brace) and of a JSON file is refused. */
+    char json[8192];
+    json_text(json, sizeof json, lm, 0);
+    size_t full[2] = {(size_t)(strrchr(text, '}') - text), strlen(json)}, refused[2] = {0, 0}, tried[2] = {0, 0};
+    for (int kind = 0; kind < 2; kind++) {
+        const char *src = kind ? json : text;
+        for (size_t cut = 0; cut < full[kind]; cut += 3) {
+            FILE *fp = fopen(path, "wb");
+            if (!fp) break;
+            fwrite(src, 1, cut, fp);
+            fclose(fp);
+            double pts[136];
+            fr_detected_face *faces = NULL;
+            size_t nf = 0;
+            frig_status st = kind ? fr_read_landmarks_json(ctx, path, &faces, &nf) : fr_read_pts(ctx, path, pts);
+            refused[kind] += st == FRIG_ERR_CORRUPT;
+            tried[kind]++;
+            free(faces);
+        }
+    }
+    printf("cut user landmark files: .pts %zu of %zu refused, JSON %zu of %zu\n", refused[0], tried[0], refused[1],
+           tried[1]);
+    CHECK(refused[0] == tried[0] && refused[1] == tried[1]);
 }
 
 /* ---- real photos ---- */
