@@ -23,11 +23,11 @@
 /* Tolerances, from the values this test prints (and bench/detect_end_to_end.sh over all photos:
  * mean distance to dlib's points 0.0165 of the eye distance, NME 0.030 where dlib finds the
  * face too), with room for other builds' rounding: */
-#define TOL_IOU 0.55      /* our calibrated box vs dlib's HOG box of the same face, worst face */
-#define TOL_NME_MEAN 0.04 /* our points vs dlib's pipeline, / dlib's outer-eye distance, mean */
-#define TOL_NME_MAX 0.10  /* the same, worst face */
-#define TOL_GT_MEAN 0.05  /* NME on the iBUG ground truth, mean of 5 faces */
-#define TOL_GT_MAX 0.08   /* worst of them */
+#define TOL_IOU 0.70      /* our calibrated box vs dlib's HOG box of the same face, worst face (0.80) */
+#define TOL_NME_MEAN 0.03 /* our points vs dlib's pipeline, / dlib's outer-eye distance, mean (0.013) */
+#define TOL_NME_MAX 0.05  /* the same, worst face (0.021) */
+#define TOL_GT_MEAN 0.04  /* NME on the iBUG ground truth, mean of 5 faces (0.032) */
+#define TOL_GT_MAX 0.065  /* worst of them (0.052) */
 
 static frig_ctx *ctx;
 static frig_detector *det;
