@@ -20,7 +20,9 @@ typedef struct frig_detector frig_detector;
  * directly or in its haarcascades/ subfolder (NULL: /usr/share/opencv4);
  * landmark_model: dlib's .dat (NULL: /usr/share/dlib/shape_predictor_68_face_landmarks.dat).
  * A missing file fails with FRIG_ERR_NOT_FOUND and a sentence naming the Debian package.
- * Reads the detect.* parameters of ctx at creation. */
+ * Reads the search parameters of ctx at creation (detect.scale_factor, min_neighbors,
+ * min_face, profile, max_side); frig_detect_photoset reads detect.user_landmarks and
+ * detect.min_eye_distance from its own ctx. */
 FRIG_API frig_status frig_detector_create(frig_ctx *ctx, const char *cascade_dir, const char *landmark_model,
                                           frig_detector **out);
 FRIG_API void frig_detector_free(frig_detector *det);
