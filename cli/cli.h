@@ -38,6 +38,8 @@ int cli_load_model(cli_env *env, const char *cmd, const char *given, frig_model 
 /* Subcommands. */
 int cmd_info(cli_env *env, int argc, char **argv);
 extern const char cmd_info_usage[];
+int cmd_detect(cli_env *env, int argc, char **argv);
+extern const char cmd_detect_usage[];
 int cmd_model(cli_env *env, int argc, char **argv);
 extern const char cmd_model_usage[];
 int cmd_fit(cli_env *env, int argc, char **argv);

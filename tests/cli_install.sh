@@ -24,6 +24,15 @@ cc -std=c11 -Wall -Wextra -Werror $extra -o "$tmp/load_image" "$FRIG_SOURCE_DIR/
 "$prefix/bin/frig" --version
 LD_LIBRARY_PATH="$libdir" "$tmp/load_image" "$tmp/made.png" > "$tmp/out"
 grep -q "made.png: 64x32, 3 channels" "$tmp/out" || { cat "$tmp/out"; exit 1; }
+# The detect example (frig/detect.h installed, its symbols exported); run when the data is there.
+cc -std=c11 -Wall -Wextra -Werror $extra -o "$tmp/detect_faces" "$FRIG_SOURCE_DIR/examples/detect_faces.c" \
+  $(pkg-config --cflags --libs frig)
+photo="${FRIG_SHARED:-$FRIG_SOURCE_DIR/../shared}/photos/lfw_tony_blair/Tony_Blair_0001.jpg"
+if [ -f "$photo" ] && [ -f /usr/share/dlib/shape_predictor_68_face_landmarks.dat ] &&
+   [ -f /usr/share/opencv4/haarcascades/haarcascade_frontalface_alt2.xml ]; then
+  LD_LIBRARY_PATH="$libdir" "$tmp/detect_faces" "$photo" > "$tmp/faces"
+  grep -q "Tony_Blair_0001.jpg: 1 face$" "$tmp/faces" || { cat "$tmp/faces"; exit 1; }
+fi
 
 cmake -S "$FRIG_SOURCE_DIR/examples" -B "$tmp/cmake-build" -DCMAKE_PREFIX_PATH="$prefix" \
   -DCMAKE_C_FLAGS="$extra" >/dev/null

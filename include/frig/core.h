@@ -115,8 +115,10 @@ typedef enum frig_param {
     FRIG_PARAM_DETECT_SCALE_FACTOR = 200,   /* cascade pyramid step (default 1.1) */
     FRIG_PARAM_DETECT_MIN_NEIGHBORS = 201,  /* cascade grouping threshold (default 3) */
     FRIG_PARAM_DETECT_MIN_FACE = 202,       /* smallest face, pixels (default 30) */
-    FRIG_PARAM_DETECT_PROFILE = 203,        /* also run the profile cascade (default 1) */
+    FRIG_PARAM_DETECT_PROFILE = 203,        /* profile cascade where the frontal finds nothing (default 1) */
     FRIG_PARAM_DETECT_MAX_SIDE = 204,       /* detect on a copy downscaled to this side (default 1600) */
+    FRIG_PARAM_DETECT_USER_LANDMARKS = 205, /* use PHOTO.pts / PHOTO.landmarks.json when present (default 1) */
+    FRIG_PARAM_DETECT_MIN_EYE_DISTANCE = 206, /* smaller subject faces are face_too_small, pixels (default 15) */
 
     /* filter (section 4.2, Algorithm 1) */
     FRIG_PARAM_FILTER_OMEGA = 300,          /* drop e > mu + omega * sigma (default 2) */

@@ -13,6 +13,7 @@
 #include "frig/model.h"
 #include "frig/rig.h"
 #include "frig/photoset.h"
+#include "frig/detect.h"
 #include "frig/fit.h"
 #include "frig/synth.h"
 

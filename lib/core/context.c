@@ -117,6 +117,16 @@ void fr_progress_tick(frig_ctx *ctx, atomic_size_t *counter, const char *stage, 
     }
 }
 
+void fr_ctx_init_child(frig_ctx *child, const frig_ctx *parent) {
+    memset(child, 0, sizeof *child);
+    atomic_init(&child->cancel, 0);
+    child->threads = 1;
+    child->log_fn = parent->log_fn;
+    child->log_user = parent->log_user;
+    child->log_max = parent->log_max;
+    memcpy(child->params, parent->params, sizeof child->params);
+}
+
 int fr_cancelled(const frig_ctx *ctx) { return ctx && atomic_load(&((frig_ctx *)ctx)->cancel); }
 
 frig_status fr_check_cancel(frig_ctx *ctx, const char *where) {

@@ -38,6 +38,19 @@ void fr_progress(frig_ctx *ctx, const char *stage, size_t done, size_t total);
 /* Inside a parallel loop: count one more item done and report it. */
 void fr_progress_tick(frig_ctx *ctx, atomic_size_t *counter, const char *stage, size_t total);
 
+/* A context for one item of a parallel loop (e.g. one photo), so each item's error sentence
+ * is its own: the parent's parameters and log callback, one thread, no progress callback, no
+ * error, not cancelled (check the parent's flag between items). Needs no freeing. */
+void fr_ctx_init_child(frig_ctx *child, const frig_ctx *parent);
+
+/* Run fn(child, i, user) for every i < n in an OpenMP loop with ctx's thread count, each item
+ * with its own child context (above), so items fail independently and each sentence is its
+ * own; progress ticks under 'stage'; after frig_ctx_cancel() the items not started are
+ * skipped and FRIG_ERR_CANCELLED is returned. Otherwise the first failing item in index order
+ * gives the status and its sentence (the same whatever the thread count); FRIG_OK when none. */
+typedef frig_status (*fr_item_fn)(frig_ctx *child, size_t i, void *user);
+frig_status fr_parallel_items(frig_ctx *ctx, size_t n, const char *stage, fr_item_fn fn, void *user);
+
 /* Nonzero once frig_ctx_cancel() was called. */
 int fr_cancelled(const frig_ctx *ctx);
 /* Sets the error and returns FRIG_ERR_CANCELLED when cancelled, else FRIG_OK. */

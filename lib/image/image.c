@@ -46,11 +46,7 @@ frig_status frig_image_clone(frig_ctx *ctx, const frig_image *src, frig_image **
     if (!img) return fr_nomem(ctx, "an image copy");
     for (int y = 0; y < src->height; y++)
         memcpy(img->pixels + (size_t)y * img->stride, src->pixels + (size_t)y * src->stride, img->stride);
-    img->format = src->format;
-    img->source_channels = src->source_channels;
-    img->source_bit_depth = src->source_bit_depth;
-    img->orientation = src->orientation;
-    img->cmyk = src->cmyk;
+    fr_image_copy_info(img, src);
     *out = img;
     return FRIG_OK;
 }
@@ -103,31 +99,39 @@ frig_image *fr_image_orient(const frig_image *img, int orientation) {
             memcpy(row + (size_t)x * c, img->pixels + (size_t)sy * img->stride + (size_t)sx * c, (size_t)c);
         }
     }
-    out->format = img->format;
-    out->source_channels = img->source_channels;
-    out->source_bit_depth = img->source_bit_depth;
-    out->orientation = img->orientation;
-    out->cmyk = img->cmyk;
+    fr_image_copy_info(out, img);
     return out;
 }
 
-frig_status frig_image_to_gray(frig_ctx *ctx, const frig_image *img, frig_image **out) {
-    if (!img || !out) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_image_to_gray: NULL argument");
+void fr_image_copy_info(frig_image *dst, const frig_image *src) {
+    dst->format = src->format;
+    dst->source_channels = src->source_channels;
+    dst->source_bit_depth = src->source_bit_depth;
+    dst->orientation = src->orientation;
+    dst->cmyk = src->cmyk;
+}
+
+frig_status fr_image_gray_map(frig_ctx *ctx, const frig_image *img, uint8_t (*to_gray)(const uint8_t *rgb),
+                              frig_image **out) {
+    if (!img || !out) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "gray conversion: NULL argument");
+    *out = NULL;
     if (img->channels == 1) return frig_image_clone(ctx, img, out);
     frig_image *g = fr_image_new(img->width, img->height, 1);
     if (!g) return fr_nomem(ctx, "a gray image");
     for (int y = 0; y < img->height; y++) {
         const uint8_t *s = img->pixels + (size_t)y * img->stride;
         uint8_t *d = g->pixels + (size_t)y * g->stride;
-        /* BT.601 in 14-bit fixed point, rounded (the same integers as OpenCV's RGB2GRAY). */
-        for (int x = 0; x < img->width; x++, s += 3)
-            d[x] = (uint8_t)((s[0] * 4899u + s[1] * 9617u + s[2] * 1868u + 8192u) >> 14);
+        for (int x = 0; x < img->width; x++, s += 3) d[x] = to_gray(s);
     }
-    g->format = img->format;
-    g->source_channels = img->source_channels;
-    g->source_bit_depth = img->source_bit_depth;
-    g->orientation = img->orientation;
-    g->cmyk = img->cmyk;
+    fr_image_copy_info(g, img);
     *out = g;
     return FRIG_OK;
+}
+
+/* BT.601 in 14-bit fixed point, rounded (the same integers as OpenCV's RGB2GRAY). */
+static uint8_t bt601(const uint8_t *s) { return (uint8_t)((s[0] * 4899u + s[1] * 9617u + s[2] * 1868u + 8192u) >> 14); }
+
+frig_status frig_image_to_gray(frig_ctx *ctx, const frig_image *img, frig_image **out) {
+    if (!img || !out) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_image_to_gray: NULL argument");
+    return fr_image_gray_map(ctx, img, bt601, out);
 }

@@ -31,6 +31,14 @@ frig_status fr_png_encode(frig_ctx *ctx, const frig_image *img, unsigned char **
  * 0 when absent or unreadable. */
 int fr_exif_orientation(const unsigned char *tiff, size_t size);
 
+/* Copy what the file held (format, source channels and bit depth, orientation, CMYK). */
+void fr_image_copy_info(frig_image *dst, const frig_image *src);
+
+/* A one-channel copy of an RGB image made pixel by pixel by 'to_gray' (given the pixel's
+ * three samples); a gray image is cloned. */
+frig_status fr_image_gray_map(frig_ctx *ctx, const frig_image *img, uint8_t (*to_gray)(const uint8_t *rgb),
+                              frig_image **out);
+
 /* A new image with the orientation transform applied (orientation 1: a copy). */
 frig_image *fr_image_orient(const frig_image *img, int orientation);
 
