@@ -10,6 +10,7 @@
 #include "fit/photo_consistency.h"
 #include "fit/progressive_fit.h"
 #include "frig/fit.h"
+#include "image/image.h"
 #include "workspace/photoset.h"
 
 /* A fit whose RMS landmark error exceeds this share of the eye distance is unusable. */
@@ -34,6 +35,19 @@ static int collect_usable(const frig_photoset *set, usable *u) {
     return n;
 }
 
+/* The JPEG reduction (1, 2, 4, 8) that keeps the face at least CROP_SIDE pixels. */
+static int reduction_for(const double *lm) {
+    double x0 = 1e300, x1 = -1e300, y0 = 1e300, y1 = -1e300;
+    for (int k = 0; k < FR_LANDMARKS; k++) {
+        x0 = fmin(x0, lm[2 * k]), x1 = fmax(x1, lm[2 * k]);
+        y0 = fmin(y0, lm[2 * k + 1]), y1 = fmax(y1, lm[2 * k + 1]);
+    }
+    double face = fmax(x1 - x0, y1 - y0);
+    int r = 1;
+    while (r < 8 && face / (2 * r) >= CROP_SIDE) r *= 2;
+    return r;
+}
+
 /* Read every usable photo once (in parallel) and keep only a small gray face crop. */
 static void load_crops(frig_ctx *ctx, frig_photoset *set, const usable *u, int n, fr_fit_input *in,
                        frig_image **crops, char **errors) {
@@ -48,11 +62,20 @@ static void load_crops(frig_ctx *ctx, frig_photoset *set, const usable *u, int n
         frig_image *img = NULL;
         if (local) {
             frig_ctx_set_param(local, FRIG_PARAM_IMAGE_MAX_PIXELS, fr_param(ctx, FRIG_PARAM_IMAGE_MAX_PIXELS));
-            if (frig_image_load(local, p->path, FRIG_LOAD_DEFAULT, &img) ||
-                fr_face_crop(local, img, u[a].landmarks, CROP_SIDE, &crops[a], in[a].crop_origin, &in[a].crop_scale))
-                errors[a] = strdup(frig_ctx_errmsg(local));
-            in[a].width = img ? frig_image_width(img) : p->width;
-            in[a].height = img ? frig_image_height(img) : p->height;
+            /* Only a small face crop is kept: decode big JPEGs reduced (DCT scaling) when the
+             * photo's upright size is known from detection. */
+            int want = p->width > 0 && p->height > 0 ? reduction_for(u[a].landmarks) : 1, got = 1;
+            double lm[2 * FR_LANDMARKS], origin[2] = {0, 0}, scale = 1;
+            frig_status st = fr_image_load_reduced(local, p->path, FRIG_LOAD_DEFAULT, want, &img, &got);
+            for (int k = 0; k < 2 * FR_LANDMARKS; k++) lm[k] = (u[a].landmarks[k] - 0.5 * (got - 1)) / got;
+            if (!st) st = fr_face_crop(local, img, lm, CROP_SIDE, &crops[a], origin, &scale);
+            if (st) errors[a] = strdup(frig_ctx_errmsg(local));
+            /* crop = (reduced - origin) * scale = (full - ((got - 1) / 2 + got * origin)) * scale / got */
+            in[a].crop_origin[0] = 0.5 * (got - 1) + got * origin[0];
+            in[a].crop_origin[1] = 0.5 * (got - 1) + got * origin[1];
+            in[a].crop_scale = scale / got;
+            in[a].width = got > 1 ? p->width : img ? frig_image_width(img) : p->width;
+            in[a].height = got > 1 ? p->height : img ? frig_image_height(img) : p->height;
         }
         in[a].crop = crops[a];
         frig_image_free(img);

@@ -36,26 +36,37 @@ frig_status fr_face_crop(frig_ctx *ctx, const frig_image *photo, const double *l
     origin[0] = cx - half;
     origin[1] = cy - half;
     *scale = s;
-    /* Area-averaged sampling (box filter over the source pixels each crop pixel covers). */
+    /* Area-averaged sampling: each crop pixel averages taps x taps source pixels, whose
+     * (clamped) columns and rows are computed once. */
     int W = photo->width, H = photo->height, C = photo->channels;
     double step = 1 / s;
     int taps = (int)ceil(step);
+    int *col = malloc(sizeof(int) * (size_t)n * taps * 2);
+    if (!col) {
+        frig_image_free(g);
+        return fr_nomem(ctx, "a face crop");
+    }
+    int *row = col + (size_t)n * taps;
+    for (int x = 0; x < n; x++)
+        for (int i = 0; i < taps; i++) {
+            int sx = (int)floor(origin[0] + (x + (i + 0.5) / taps - 0.5) * step + 0.5);
+            int sy = (int)floor(origin[1] + (x + (i + 0.5) / taps - 0.5) * step + 0.5);
+            col[x * taps + i] = (sx < 0 ? 0 : sx >= W ? W - 1 : sx) * C;
+            row[x * taps + i] = sy < 0 ? 0 : sy >= H ? H - 1 : sy;
+        }
     for (int y = 0; y < n; y++)
         for (int x = 0; x < n; x++) {
             double sum = 0;
-            int cnt = 0;
-            for (int j = 0; j < taps; j++)
+            for (int j = 0; j < taps; j++) {
+                const uint8_t *src = photo->pixels + (size_t)row[y * taps + j] * photo->stride;
                 for (int i = 0; i < taps; i++) {
-                    int sx = (int)lround(origin[0] + (x + (i + 0.5) / taps - 0.5) * step);
-                    int sy = (int)lround(origin[1] + (y + (j + 0.5) / taps - 0.5) * step);
-                    sx = sx < 0 ? 0 : sx >= W ? W - 1 : sx;
-                    sy = sy < 0 ? 0 : sy >= H ? H - 1 : sy;
-                    const uint8_t *p = photo->pixels + (size_t)sy * photo->stride + (size_t)sx * C;
-                    sum += C == 1 ? p[0] : 0.299 * p[0] + 0.587 * p[1] + 0.114 * p[2];
-                    cnt++;
+                    const uint8_t *q = src + col[x * taps + i];
+                    sum += C == 1 ? q[0] : 0.299 * q[0] + 0.587 * q[1] + 0.114 * q[2];
                 }
-            g->pixels[(size_t)y * g->stride + x] = (uint8_t)lround(sum / cnt);
+            }
+            g->pixels[(size_t)y * g->stride + x] = (uint8_t)(sum / (taps * taps) + 0.5);
         }
+    free(col);
     *crop = g;
     return FRIG_OK;
 }

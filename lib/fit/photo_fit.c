@@ -271,22 +271,21 @@ static double facing(const fr_fit_photo *p, const double *X, const double *N, in
 
 /* Normals at the scale of the cheek and jaw: a few rounds of averaging over neighbours,
  * so that small folds (eyelids, the nasolabial fold) do not count as turning away. */
-#define NORMAL_SMOOTHING_ROUNDS 4
+#define NORMAL_SMOOTHING_ROUNDS 3
 static void smooth_normals(const fr_fit_model *fm, double *N) {
     int ns = fm->n_slots;
     double *T = malloc(sizeof(double) * 3 * (size_t)ns);
     if (!T) return;
     for (int round = 0; round < NORMAL_SMOOTHING_ROUNDS; round++) {
+        for (int s = 0; s < ns; s++) { /* unit normals first, so each neighbour counts once */
+            double *n = N + 3 * s, len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+            if (len > 0) n[0] /= len, n[1] /= len, n[2] /= len;
+        }
         for (int s = 0; s < ns; s++) {
-            double n[3] = {N[3 * s], N[3 * s + 1], N[3 * s + 2]};
-            double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-            double acc[3] = {0, 0, 0};
-            if (len > 0) acc[0] = n[0] / len, acc[1] = n[1] / len, acc[2] = n[2] / len;
+            double acc[3] = {N[3 * s], N[3 * s + 1], N[3 * s + 2]};
             for (int i = fm->adj_start[s]; i < fm->adj_start[s + 1]; i++) {
                 const double *m = N + 3 * fm->adj[i];
-                double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-                if (l > 0)
-                    for (int c = 0; c < 3; c++) acc[c] += m[c] / l;
+                acc[0] += m[0], acc[1] += m[1], acc[2] += m[2];
             }
             memcpy(T + 3 * s, acc, sizeof acc);
         }

@@ -237,7 +237,9 @@ static frig_status progressive(run *r, fr_fit_result *res, double *identity) {
         /* Individual fits from the current identity (the mean face at first); its value is
          * also the prior of later rounds (section 4.3.2). */
         snprintf(stage, sizeof stage, "fit.individual.%d", round + 1);
-        st = fit_photos(r, NULL, n, identity, round ? identity : NULL, 1, s->iterations, s->start, s->end, 1, stage);
+        /* Later rounds start from the previous round's poses and expressions (warm). */
+        st = fit_photos(r, NULL, n, identity, round ? identity : NULL, 1, round ? s->iterations / 2 + 1 : s->iterations,
+                        s->start, s->end, round == 0, stage);
         if (st) break;
         identity_fitness(r, f_id);
         st = fr_photo_consistency(r->ctx, fm, n, r->in, r->ph, s->threads, f_tex);
@@ -308,9 +310,12 @@ frig_status fr_fit_run(frig_ctx *ctx, const fr_fit_model *fm, const fr_fit_setti
         r.ph[i].w = r.w + (size_t)i * fm->n_cols;
         fr_fit_photo_init(fm, &r.ph[i], in[i].landmarks, in[i].width, in[i].height, s->perspective, r.ph[i].w);
     }
+    /* The fit's linear algebra is small: OpenBLAS threads would only spin (docs/api.md). */
+    int saved = fr_blas_serial_begin();
     frig_status st = scheme == FR_SCHEME_INDIVIDUAL  ? individual_only(&r, results, identity)
                      : scheme == FR_SCHEME_NAIVE_JOINT ? naive_joint(&r, results, identity)
                                                        : progressive(&r, results, identity);
+    fr_blas_serial_end(saved);
     free(r.ph);
     free(r.w);
     return st;

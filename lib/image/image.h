@@ -18,7 +18,13 @@ frig_image *fr_image_new(int width, int height, int channels);
 /* Decoders: 'name' is used in messages. The result is in stored orientation with
  * 'orientation' set from EXIF (1 when absent). */
 frig_status fr_jpeg_decode(frig_ctx *ctx, const char *name, const unsigned char *data, size_t size, unsigned flags,
-                           frig_image **out);
+                           int reduce, frig_image **out);
+
+/* Load an image reduced by 'reduce' (1, 2, 4 or 8) where the codec can do it cheaply (JPEG:
+ * libjpeg's DCT scaling; PNG is decoded whole). *reduced tells the factor applied: pixel i of
+ * the result is centred on pixel i * r + (r - 1) / 2 of the full upright image. */
+frig_status fr_image_load_reduced(frig_ctx *ctx, const char *path, unsigned flags, int reduce, frig_image **out,
+                                  int *reduced);
 frig_status fr_png_decode(frig_ctx *ctx, const char *name, const unsigned char *data, size_t size, unsigned flags,
                           frig_image **out);
 

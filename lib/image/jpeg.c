@@ -59,7 +59,7 @@ static int exif_from_markers(struct jpeg_decompress_struct *cinfo) {
 }
 
 frig_status fr_jpeg_decode(frig_ctx *ctx, const char *name, const unsigned char *data, size_t size, unsigned flags,
-                           frig_image **out) {
+                           int reduce, frig_image **out) {
     struct jpeg_decompress_struct cinfo;
     jpeg_guard guard;
     frig_image *volatile img = NULL;
@@ -96,6 +96,10 @@ frig_status fr_jpeg_decode(frig_ctx *ctx, const char *name, const unsigned char 
     int source_channels = cinfo.num_components;
     if (cmyk) cinfo.out_color_space = JCS_CMYK;
     else cinfo.out_color_space = gray ? JCS_GRAYSCALE : JCS_RGB;
+    if (reduce > 1) {
+        cinfo.scale_num = 1;
+        cinfo.scale_denom = (unsigned)reduce;
+    }
     jpeg_start_decompress(&cinfo);
 
     int w = (int)cinfo.output_width, h = (int)cinfo.output_height;
