@@ -18,6 +18,7 @@
 #include "core/context.h"
 #include "fit/photo_consistency.h"
 #include "fit/progressive_fit.h"
+#include "frig/detect.h"
 #include "frig/frig.h"
 #include "frig/synth.h"
 #include "raster/rotation.h"
@@ -132,9 +133,10 @@ int main(int argc, char **argv) {
         fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
         return 1;
     }
-    if (detected) {
-        fprintf(stderr, "--detected needs the detect stage\n");
-        return 2;
+    frig_detector *det = NULL;
+    if (detected && frig_detector_create(ctx, NULL, NULL, &det)) {
+        fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
+        return 1;
     }
     fr_fit_model fm;
     if (fr_fit_model_build(ctx, model, fr_param_int(ctx, FRIG_PARAM_FIT_IDENTITY_MODES), &fm)) return 1;
@@ -147,9 +149,9 @@ int main(int argc, char **argv) {
     row rows[3] = {{0}};
     double seconds[3] = {0};
     rng r = {seed * 7919 + 17};
-    printf("fit on synthetic ground truth: %d subjects x %d photos, landmarks %s, noise %.1f%% of eye distance, "
+    printf("fit on synthetic ground truth: %d subjects x %d photos (%s), landmarks %s, noise %.1f%% of eye distance, "
            "%.0f%% corrupted, %s camera\n",
-           subjects, photos, detected ? "from our detector" : "truth (detector-like)", noise, corrupt * 100,
+           subjects, photos, "those with a detected face are fitted", detected ? "from our detector" : "truth (detector-like)", noise, corrupt * 100,
            st.perspective ? "perspective" : "weak-perspective");
     printf("%-8s %-26s %10s %9s %9s %9s %9s\n", "subject", "scheme", "neutral mm", "rot deg", "exp |w|", "exp mm",
            "reproj px");
@@ -173,7 +175,14 @@ int main(int argc, char **argv) {
             const double *q = frig_synth_truth_landmarks(tr, !exact);
             double *dst = lmk + 136 * (size_t)n;
             int ok = q != NULL;
-            if (ok) {
+            if (ok && detected) {
+                /* Our detector on the rendered photo: its subject face (the largest). */
+                size_t count = 0;
+                double box[4 * 8], score[8], lm8[136 * 8];
+                int src[8];
+                ok = frig_detect_faces(ctx, det, img, 8, &count, box, score, src, lm8) == FRIG_OK && count > 0;
+                if (ok) memcpy(dst, lm8, sizeof(double) * 136);
+            } else if (ok) {
                 double l[2] = {0, 0}, rr[2] = {0, 0};
                 for (int k = 36; k < 42; k++) l[0] += q[2 * k] / 6, l[1] += q[2 * k + 1] / 6;
                 for (int k = 42; k < 48; k++) rr[0] += q[2 * k] / 6, rr[1] += q[2 * k + 1] / 6;
@@ -281,6 +290,7 @@ int main(int argc, char **argv) {
                o->reproj_px / o->count, seconds[sc] / o->count);
     }
     fr_fit_model_free(&fm);
+    frig_detector_free(det);
     frig_model_free(model);
     frig_ctx_free(ctx);
     return 0;
