@@ -1,0 +1,245 @@
+/* Algorithm 1 of section 4.2 (failure detection for facial feature points): each round builds the
+ * texture and shape models from the low-rank part L of robust PCA (eq. 4.1) of the current inliers,
+ * reconstructs every inlier by projection on the PCA basis, and drops the photos whose error
+ * e = w_t RMSE(I, I') + w_s sum ||p - p'||^2 exceeds mu + omega sigma; it stops when none is dropped. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "filter/face_reference.h"
+#include "filter/failure_detection.h"
+#include "filter/procrustes.h"
+
+void fr_filter_options_from_ctx(const frig_ctx *ctx, fr_filter_options *o) {
+    o->omega = fr_param(ctx, FRIG_PARAM_FILTER_OMEGA);
+    o->w_texture = fr_param(ctx, FRIG_PARAM_FILTER_W_TEXTURE);
+    o->w_shape = fr_param(ctx, FRIG_PARAM_FILTER_W_SHAPE);
+    o->pca_energy = fr_param(ctx, FRIG_PARAM_FILTER_PCA_ENERGY);
+    o->max_rounds = fr_param_int(ctx, FRIG_PARAM_FILTER_MAX_ROUNDS);
+    o->robust = 1;
+    fr_rpca_default_options(&o->rpca);
+}
+
+void fr_filter_model_free(fr_filter_model *m) {
+    if (!m) return;
+    fr_pca_free(&m->texture);
+    fr_pca_free(&m->shape);
+}
+
+frig_status fr_filter_align_shapes(frig_ctx *ctx, int count, const double *landmarks, double *aligned,
+                                   double *mean) {
+    const double *ref = fr_face_reference_shape();
+    double gauge[FR_FILTER_SHAPE_DIM], own_mean[FR_FILTER_SHAPE_DIM];
+    double iod = hypot(ref[2 * 45] - ref[2 * 36], ref[2 * 45 + 1] - ref[2 * 36 + 1]);
+    for (int k = 0; k < FR_FILTER_SHAPE_DIM; k++) gauge[k] = ref[k] * (FR_FILTER_SHAPE_IOD / iod);
+    return fr_procrustes_align(ctx, FR_FACE_POINTS, count, landmarks, gauge, aligned, mean ? mean : own_mean, NULL);
+}
+
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The PCA model of the samples X (dim x n): PCA of L + median, where L is the low-rank part of the
+ * robust PCA of X minus its per-row median (centring first leaves robust PCA only the variation to
+ * explain; the median is not pulled by the outliers). With opt->robust = 0, plain PCA of X. */
+static frig_status build_model(frig_ctx *ctx, int dim, int n, const double *X, const fr_filter_options *opt,
+                               fr_pca *out, int *rank) {
+    size_t dn = (size_t)dim * n;
+    *rank = 0;
+    if (!opt->robust) return fr_pca_fit(ctx, dim, n, X, opt->pca_energy, out);
+    double *buf = calloc(3 * dn + dim + n, sizeof(double));
+    if (!buf) return fr_nomem(ctx, "robust PCA of the filter's data");
+    double *C = buf, *L = C + dn, *S = L + dn, *med = S + dn, *row = med + dim;
+    for (int i = 0; i < dim; i++) {
+        for (int j = 0; j < n; j++) row[j] = X[i + (size_t)j * dim];
+        qsort(row, (size_t)n, sizeof(double), cmp_double);
+        med[i] = n % 2 ? row[n / 2] : 0.5 * (row[n / 2 - 1] + row[n / 2]);
+    }
+    for (int j = 0; j < n; j++)
+        for (int i = 0; i < dim; i++) C[i + (size_t)j * dim] = X[i + (size_t)j * dim] - med[i];
+    fr_rpca_info info;
+    frig_status st = fr_robust_pca(ctx, dim, n, C, dim, &opt->rpca, L, S, &info);
+    if (st == FRIG_OK) {
+        *rank = info.rank;
+        for (int j = 0; j < n; j++)
+            for (int i = 0; i < dim; i++) L[i + (size_t)j * dim] += med[i];
+        st = fr_pca_fit(ctx, dim, n, L, opt->pca_energy, out);
+    }
+    free(buf);
+    return st;
+}
+
+/* Copy the columns listed in idx of X (dim x ...) into Y (dim x n). */
+static void gather(int dim, int n, const int *idx, const double *X, double *Y) {
+    for (int j = 0; j < n; j++) memcpy(Y + (size_t)j * dim, X + (size_t)idx[j] * dim, sizeof(double) * dim);
+}
+
+/* Build the models of the photos listed in idx. */
+static frig_status build_models(frig_ctx *ctx, int n, const int *idx, int texels, const double *textures,
+                                const double *shapes, const fr_filter_options *opt, fr_filter_model *model,
+                                int ranks[2]) {
+    memset(model, 0, sizeof *model);
+    model->w_texture = opt->w_texture;
+    model->w_shape = opt->w_shape;
+    ranks[0] = ranks[1] = 0;
+    int dim = textures && texels > FR_FILTER_SHAPE_DIM ? texels : FR_FILTER_SHAPE_DIM;
+    double *Y = calloc((size_t)dim * n, sizeof(double));
+    if (!Y) return fr_nomem(ctx, "the filter's data matrix");
+    frig_status st = FRIG_OK;
+    if (textures) {
+        gather(texels, n, idx, textures, Y);
+        st = build_model(ctx, texels, n, Y, opt, &model->texture, &ranks[0]);
+    }
+    if (st == FRIG_OK && shapes) {
+        gather(FR_FILTER_SHAPE_DIM, n, idx, shapes, Y);
+        st = build_model(ctx, FR_FILTER_SHAPE_DIM, n, Y, opt, &model->shape, &ranks[1]);
+    }
+    free(Y);
+    if (st != FRIG_OK) fr_filter_model_free(model);
+    return st;
+}
+
+/* Errors of the n listed photos under the model. */
+static frig_status score_listed(frig_ctx *ctx, const fr_filter_model *model, int n, const int *idx, int texels,
+                                const double *textures, const double *shapes, fr_filter_result *res) {
+    int dim = textures && texels > FR_FILTER_SHAPE_DIM ? texels : FR_FILTER_SHAPE_DIM;
+    double *Y = calloc((size_t)dim * n + n, sizeof(double));
+    if (!Y) return fr_nomem(ctx, "the filter's reconstructions");
+    double *r2 = Y + (size_t)dim * n;
+    frig_status st = FRIG_OK;
+    for (int j = 0; j < n; j++) res[j].texture_error = res[j].shape_error = 0;
+    if (textures && model->texture.dim == texels) {
+        gather(texels, n, idx, textures, Y);
+        st = fr_pca_reconstruct(ctx, &model->texture, n, Y, r2, NULL);
+        for (int j = 0; j < n && st == FRIG_OK; j++) res[j].texture_error = sqrt(r2[j] / texels);
+    }
+    if (st == FRIG_OK && shapes && model->shape.dim == FR_FILTER_SHAPE_DIM) {
+        gather(FR_FILTER_SHAPE_DIM, n, idx, shapes, Y);
+        st = fr_pca_reconstruct(ctx, &model->shape, n, Y, r2, NULL);
+        for (int j = 0; j < n && st == FRIG_OK; j++) res[j].shape_error = r2[j];
+    }
+    for (int j = 0; j < n; j++) {
+        res[j].error = model->w_texture * res[j].texture_error + model->w_shape * res[j].shape_error;
+        res[j].round_dropped = 0;
+    }
+    free(Y);
+    return st;
+}
+
+frig_status fr_filter_score(frig_ctx *ctx, const fr_filter_model *model, int count, const double *textures,
+                            const double *shapes, fr_filter_result *results) {
+    int *idx = malloc(sizeof(int) * (size_t)(count > 0 ? count : 1));
+    if (!idx) return fr_nomem(ctx, "face indices");
+    for (int i = 0; i < count; i++) idx[i] = i;
+    frig_status st = score_listed(ctx, model, count, idx, model->texture.dim, textures, shapes, results);
+    free(idx);
+    return st;
+}
+
+frig_status fr_failure_detection(frig_ctx *ctx, int count, int texels, const double *textures, const double *shapes,
+                                 const fr_filter_options *opt, fr_filter_result *results, int *rounds,
+                                 fr_filter_model *model) {
+    if (rounds) *rounds = 0;
+    if (model) memset(model, 0, sizeof *model);
+    if (count < 3)
+        return fr_error(ctx, FRIG_ERR_TOO_FEW, "failure detection needs at least 3 faces, not %d", count);
+    if (!textures && !shapes) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "failure detection: no data");
+    if (textures && texels < 1) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "textures of %d texels", texels);
+    if (!(opt->omega > 0) || opt->max_rounds < 1 || !(opt->pca_energy > 0 && opt->pca_energy <= 1))
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "failure detection: omega %g, max_rounds %d, energy %g",
+                        opt->omega, opt->max_rounds, opt->pca_energy);
+    int *idx = malloc(sizeof(int) * (size_t)count);
+    fr_filter_result *res = malloc(sizeof *res * (size_t)count);
+    if (!idx || !res) {
+        free(idx);
+        free(res);
+        return fr_nomem(ctx, "failure detection");
+    }
+    for (int i = 0; i < count; i++) {
+        idx[i] = i;
+        memset(&results[i], 0, sizeof results[i]);
+    }
+    int n = count, round = 0;
+    frig_status st = FRIG_OK;
+    fr_filter_model m;
+    memset(&m, 0, sizeof m);
+    while (round < opt->max_rounds && n >= 3) {
+        round++;
+        int ranks[2];
+        if ((st = build_models(ctx, n, idx, texels, textures, shapes, opt, &m, ranks)) != FRIG_OK) break;
+        st = score_listed(ctx, &m, n, idx, texels, textures, shapes, res);
+        fr_filter_model_free(&m);
+        if (st != FRIG_OK) break;
+        double mu = 0, var = 0;
+        for (int j = 0; j < n; j++) mu += res[j].error;
+        mu /= n;
+        for (int j = 0; j < n; j++) var += (res[j].error - mu) * (res[j].error - mu);
+        double limit = mu + opt->omega * sqrt(var / n);
+        int kept = 0;
+        for (int j = 0; j < n; j++) {
+            results[idx[j]] = res[j];
+            if (res[j].error > limit)
+                results[idx[j]].round_dropped = round;
+            else
+                idx[kept++] = idx[j];
+        }
+        double mt = 0, ms = 0;
+        for (int j = 0; j < n; j++) mt += res[j].texture_error / n, ms += res[j].shape_error / n;
+        fr_log(ctx, FRIG_LOG_INFO,
+               "filter round %d: %d faces, robust PCA ranks %d (texture) %d (shape), mean errors %.4g (texture) "
+               "%.4g (shape), e mean %.4g std %.4g, dropped %d",
+               round, n, ranks[0], ranks[1], mt, ms, mu, sqrt(var / n), n - kept);
+        fr_progress(ctx, "filter", (size_t)round, (size_t)opt->max_rounds);
+        int dropped = n - kept;
+        n = kept;
+        if (dropped == 0) break;
+        if ((st = fr_check_cancel(ctx, "failure detection")) != FRIG_OK) break;
+    }
+    if (st == FRIG_OK && model) {
+        int ranks[2];
+        st = build_models(ctx, n, idx, texels, textures, shapes, opt, model, ranks);
+    }
+    if (st == FRIG_OK && rounds) *rounds = round;
+    free(idx);
+    free(res);
+    return st;
+}
+
+frig_status fr_filter_choose_face(frig_ctx *ctx, const fr_filter_model *model, const fr_face_warp *warp,
+                                  const frig_image *image, int faces, const double *landmarks, int *best,
+                                  fr_filter_result *scores) {
+    *best = -1;
+    int texels = model->texture.dim;
+    if (texels > 0 && (!warp || fr_face_warp_texels(warp) != texels))
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "choose face: the warp does not match the texture model");
+    double *tex = malloc(sizeof(double) * ((size_t)(texels > 0 ? texels : 1) + FR_FILTER_SHAPE_DIM));
+    if (!tex) return fr_nomem(ctx, "a face texture");
+    double *shape = tex + (texels > 0 ? texels : 1), best_e = INFINITY;
+    frig_status st = FRIG_OK;
+    for (int f = 0; f < faces && st == FRIG_OK; f++) {
+        const double *lm = landmarks + (size_t)f * FR_FILTER_SHAPE_DIM;
+        fr_filter_result r = {INFINITY, INFINITY, INFINITY, 0};
+        int usable = 1;
+        if (texels > 0) {
+            st = fr_face_warp_sample(ctx, warp, image, lm, tex, NULL);
+            usable = st == FRIG_OK && fr_texture_normalize(texels, tex);
+        }
+        if (st == FRIG_OK && usable && model->shape.dim == FR_FILTER_SHAPE_DIM) {
+            double T[4];
+            fr_similarity_fit(FR_FACE_POINTS, lm, model->shape.mean, T);
+            fr_similarity_apply(FR_FACE_POINTS, T, lm, shape);
+        }
+        if (st == FRIG_OK && usable)
+            st = fr_filter_score(ctx, model, 1, texels > 0 ? tex : NULL,
+                                 model->shape.dim == FR_FILTER_SHAPE_DIM ? shape : NULL, &r);
+        if (scores) scores[f] = r;
+        if (st == FRIG_OK && usable && r.error < best_e) {
+            best_e = r.error;
+            *best = f;
+        }
+    }
+    free(tex);
+    return st;
+}
