@@ -4,7 +4,7 @@
  * pasted in, an occluding patch painted over the eyes or mouth), run failure detection on shapes
  * only, textures only and both, and measure precision and recall of the dropped set.
  *
- *   test_filter_planted          the test: 40 frames of one video, 3 seeds, asserts floors
+ *   test_filter_planted          the test: 60 frames of one video, 20% planted, 5 seeds, asserts floors
  *   test_filter_planted --full   the benchmark table: every photo set, rates 10-30%, 5 seeds, and
  *                                the runtime for 100 photos (bench/filter_planted.sh runs it)
  */
@@ -385,7 +385,7 @@ static const char *dlib_tool(void) {
 
 static int test_mode(frig_ctx *ctx, const char *tool) {
     face_set *set = calloc(1, sizeof *set), *donors = calloc(1, sizeof *donors);
-    if (load_set(ctx, tool, "video_sadtalker_WDA_KatieHill_000", 40, NULL, set) < 36 ||
+    if (load_set(ctx, tool, "video_sadtalker_WDA_KatieHill_000", 60, NULL, set) < 55 ||
         load_set(ctx, tool, "lfw_colin_powell", 12, NULL, donors) < 8) {
         fprintf(stderr, "too few faces found: %d and %d\n", set->count, donors->count);
         test_failures++;
@@ -397,16 +397,21 @@ static int test_mode(frig_ctx *ctx, const char *tool) {
         tally clean[CONFIGS], planted[CONFIGS];
         CHECK(run_trials(ctx, warp, set, donors, 0.0, 1, &opt, clean));
         print_tallies(set->name, 0.0, 1, clean);
-        CHECK(run_trials(ctx, warp, set, donors, 0.2, 3, &opt, planted));
-        print_tallies(set->name, 0.2, 3, planted);
-        /* Floors set from the measured figures with margin (see the report): the two models
-         * together find most planted failures and drop few good photos; each alone misses the
-         * kinds it cannot see. */
-        CHECK(recall(&planted[BOTH]) >= 0.8);
-        CHECK(precision(&planted[BOTH]) >= 0.8);
-        CHECK(clean[BOTH].fp <= 3);
-        CHECK(recall(&planted[TEXTURE_ONLY]) >= 0.6);
-        CHECK(recall(&planted[SHAPE_ONLY]) >= 0.3);
+        CHECK(run_trials(ctx, warp, set, donors, 0.2, 5, &opt, planted));
+        print_tallies(set->name, 0.2, 5, planted);
+        /* Floors from the measured figures with margin (60 frames, 12 planted per seed, 5 seeds;
+         * measured: both P 0.78 R 0.87, texture only P 0.98 R 0.92, shape only P 0.51 R 0.78, 7 of
+         * 60 clean frames dropped). Shapes alone cannot see occlusions (a quarter of the planted
+         * failures), and their heavy-tailed errors drop good frames. */
+        CHECK(recall(&planted[BOTH]) >= 0.75);
+        CHECK(precision(&planted[BOTH]) >= 0.65);
+        CHECK(recall(&planted[TEXTURE_ONLY]) >= 0.8);
+        CHECK(precision(&planted[TEXTURE_ONLY]) >= 0.85);
+        CHECK(recall(&planted[SHAPE_ONLY]) >= 0.6);
+        CHECK(planted[SHAPE_ONLY].kind_tp[JAW] == planted[SHAPE_ONLY].kind_n[JAW]);
+        CHECK(planted[SHAPE_ONLY].kind_tp[EYES] == planted[SHAPE_ONLY].kind_n[EYES]);
+        CHECK(clean[BOTH].fp <= 10);
+        CHECK(clean[TEXTURE_ONLY].fp <= 4);
         fr_face_warp_free(warp);
     }
     free_set(set);
