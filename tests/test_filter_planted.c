@@ -314,10 +314,6 @@ static int run_config(frig_ctx *ctx, const trial_data *t, int config, const fr_f
     if (fr_failure_detection(ctx, t->n, t->texels, config == SHAPE_ONLY ? NULL : t->textures,
                              config == TEXTURE_ONLY ? NULL : t->shapes, &first, r1, NULL, NULL) != FRIG_OK)
         return 0;
-    if (getenv("FILTER_DUMP") && config == BOTH)
-        for (int i = 0; i < t->n; i++)
-            fprintf(stderr, "dump %d %d %.5f %.5f %.5f\n", i, t->planted[i], r1[i].texture_error, r1[i].shape_error,
-                    r1[i].error);
     long pairs = 0, above = 0;
     for (int i = 0; i < t->n; i++)
         for (int j = 0; j < t->n; j++)
