@@ -4,7 +4,7 @@
  * pasted in, an occluding patch painted over the eyes or mouth), run failure detection on shapes
  * only, textures only and both, and measure precision and recall of the dropped set.
  *
- *   test_filter_planted          the test: 40 frames of one video, 3 seeds, asserts floors
+ *   test_filter_planted          the test: 60 frames of one video, 20% planted, 5 seeds, asserts floors
  *   test_filter_planted --full   the benchmark table: every photo set, rates 10-30%, 5 seeds, and
  *                                the runtime for 100 photos (bench/filter_planted.sh runs it)
  */
@@ -177,6 +177,11 @@ static void free_set(face_set *set) {
 
 /* ---- corruption ------------------------------------------------------------------------------ */
 
+static int cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
 static double uniform(fr_rng *r, double lo, double hi) { return lo + (hi - lo) * fr_rng_uniform(r); }
 
 /* The jaw contour of one side slides off the jaw line (outwards onto the background or inwards
@@ -229,6 +234,7 @@ static const char *config_names[CONFIGS] = {"shape only", "texture only", "both"
 typedef struct tally {
     long tp, fp, fn, runs, rounds;
     long kind_tp[KINDS], kind_n[KINDS];
+    double auc; /* summed over runs: ROC area of the first round's errors (planted vs good) */
 } tally;
 
 typedef struct trial_data {
@@ -300,6 +306,22 @@ static int run_config(frig_ctx *ctx, const trial_data *t, int config, const fr_f
     }
     out->runs++;
     out->rounds += rounds;
+    /* How well the first round's errors alone separate planted from good photos. */
+    fr_filter_options first = *opt;
+    first.max_rounds = 1;
+    first.omega = 1e6;
+    fr_filter_result r1[MAX_PHOTOS];
+    if (fr_failure_detection(ctx, t->n, t->texels, config == SHAPE_ONLY ? NULL : t->textures,
+                             config == TEXTURE_ONLY ? NULL : t->shapes, &first, r1, NULL, NULL) != FRIG_OK)
+        return 0;
+    long pairs = 0, above = 0;
+    for (int i = 0; i < t->n; i++)
+        for (int j = 0; j < t->n; j++)
+            if (t->planted[i] >= 0 && t->planted[j] < 0) {
+                pairs += 2;
+                above += r1[i].error > r1[j].error ? 2 : r1[i].error == r1[j].error;
+            }
+    out->auc += pairs ? (double)above / pairs : 1.0;
     for (int i = 0; i < t->n; i++) {
         int dropped = res[i].round_dropped > 0, k = t->planted[i];
         out->tp += dropped && k >= 0;
@@ -340,7 +362,7 @@ static void print_tallies(const char *set, double rate, int seeds, const tally t
         printf("%-34s %3.0f%% %d seeds  %-12s  precision %.3f  recall %.3f  (tp %ld fp %ld fn %ld, rounds %.1f)",
                set, 100 * rate, seeds, config_names[c], precision(t), recall(t), t->tp, t->fp, t->fn,
                t->runs ? (double)t->rounds / t->runs : 0.0);
-        printf("  recall by kind:");
+        printf("  AUC %.3f  recall by kind:", t->runs ? t->auc / t->runs : 0.0);
         for (int k = 0; k < KINDS; k++)
             printf(" %s %.2f", kind_names[k], t->kind_n[k] ? (double)t->kind_tp[k] / t->kind_n[k] : NAN);
         printf("\n");
@@ -359,7 +381,7 @@ static const char *dlib_tool(void) {
 
 static int test_mode(frig_ctx *ctx, const char *tool) {
     face_set *set = calloc(1, sizeof *set), *donors = calloc(1, sizeof *donors);
-    if (load_set(ctx, tool, "video_sadtalker_WDA_KatieHill_000", 40, NULL, set) < 36 ||
+    if (load_set(ctx, tool, "video_sadtalker_WDA_KatieHill_000", 60, NULL, set) < 55 ||
         load_set(ctx, tool, "lfw_colin_powell", 12, NULL, donors) < 8) {
         fprintf(stderr, "too few faces found: %d and %d\n", set->count, donors->count);
         test_failures++;
@@ -371,16 +393,21 @@ static int test_mode(frig_ctx *ctx, const char *tool) {
         tally clean[CONFIGS], planted[CONFIGS];
         CHECK(run_trials(ctx, warp, set, donors, 0.0, 1, &opt, clean));
         print_tallies(set->name, 0.0, 1, clean);
-        CHECK(run_trials(ctx, warp, set, donors, 0.2, 3, &opt, planted));
-        print_tallies(set->name, 0.2, 3, planted);
-        /* Floors set from the measured figures with margin (see the report): the two models
-         * together find most planted failures and drop few good photos; each alone misses the
-         * kinds it cannot see. */
-        CHECK(recall(&planted[BOTH]) >= 0.8);
-        CHECK(precision(&planted[BOTH]) >= 0.8);
-        CHECK(clean[BOTH].fp <= 3);
-        CHECK(recall(&planted[TEXTURE_ONLY]) >= 0.6);
-        CHECK(recall(&planted[SHAPE_ONLY]) >= 0.3);
+        CHECK(run_trials(ctx, warp, set, donors, 0.2, 5, &opt, planted));
+        print_tallies(set->name, 0.2, 5, planted);
+        /* Floors from the measured figures with margin (60 frames, 12 planted per seed, 5 seeds;
+         * measured: both P 0.78 R 0.87, texture only P 0.98 R 0.92, shape only P 0.51 R 0.78, 7 of
+         * 60 clean frames dropped). Shapes alone cannot see occlusions (a quarter of the planted
+         * failures), and their heavy-tailed errors drop good frames. */
+        CHECK(recall(&planted[BOTH]) >= 0.75);
+        CHECK(precision(&planted[BOTH]) >= 0.65);
+        CHECK(recall(&planted[TEXTURE_ONLY]) >= 0.8);
+        CHECK(precision(&planted[TEXTURE_ONLY]) >= 0.85);
+        CHECK(recall(&planted[SHAPE_ONLY]) >= 0.6);
+        CHECK(planted[SHAPE_ONLY].kind_tp[JAW] == planted[SHAPE_ONLY].kind_n[JAW]);
+        CHECK(planted[SHAPE_ONLY].kind_tp[EYES] == planted[SHAPE_ONLY].kind_n[EYES]);
+        CHECK(clean[BOTH].fp <= 10);
+        CHECK(clean[TEXTURE_ONLY].fp <= 4);
         fr_face_warp_free(warp);
     }
     free_set(set);
@@ -403,26 +430,53 @@ static void bench_runtime(frig_ctx *ctx, const face_set *set) {
     double *tex = malloc(sizeof(double) * (size_t)P * n), *lms = malloc(sizeof(double) * LM * n),
            *shapes = malloc(sizeof(double) * LM * n);
     fr_filter_result *res = malloc(sizeof *res * n);
-    double t0 = now();
-    for (int i = 0; i < n; i++) fr_face_texture(ctx, warp, set->faces[i].img, set->faces[i].lm, tex + (size_t)i * P, NULL);
-    double t1 = now();
-    for (int i = 0; i < n; i++) memcpy(lms + (size_t)i * LM, set->faces[i].lm, sizeof(double) * LM);
-    fr_filter_align_shapes(ctx, n, lms, shapes, NULL);
-    double t2 = now();
+    /* Each stage 5 times; the median time (the machine is shared). */
+    double tw[5], tp[5], ta[5];
     fr_filter_options opt;
     fr_filter_options_from_ctx(ctx, &opt);
     int rounds = 0;
-    fr_failure_detection(ctx, n, P, tex, shapes, &opt, res, &rounds, NULL);
-    double t3 = now();
-    printf("\nruntime, %d photos of %s (texture %dx%d, %d texels; decoding not counted):\n", n, set->name,
-           fr_face_warp_size(warp), fr_face_warp_size(warp), P);
+    for (int rep = 0; rep < 5; rep++) {
+        double t0 = now();
+        for (int i = 0; i < n; i++)
+            fr_face_texture(ctx, warp, set->faces[i].img, set->faces[i].lm, tex + (size_t)i * P, NULL);
+        double t1 = now();
+        for (int i = 0; i < n; i++) memcpy(lms + (size_t)i * LM, set->faces[i].lm, sizeof(double) * LM);
+        fr_filter_align_shapes(ctx, n, lms, shapes, NULL);
+        double t2 = now();
+        fr_failure_detection(ctx, n, P, tex, shapes, &opt, res, &rounds, NULL);
+        double t3 = now();
+        tw[rep] = t1 - t0, tp[rep] = t2 - t1, ta[rep] = t3 - t2;
+    }
+    qsort(tw, 5, sizeof(double), cmp_double);
+    qsort(tp, 5, sizeof(double), cmp_double);
+    qsort(ta, 5, sizeof(double), cmp_double);
+    printf("\nruntime, %d photos of %s (texture %dx%d, %d texels; decoding not counted; median of 5):\n", n,
+           set->name, fr_face_warp_size(warp), fr_face_warp_size(warp), P);
     printf("  warp + normalize %.1f ms, Procrustes %.2f ms, Algorithm 1 (%d rounds) %.1f ms, total %.1f ms\n",
-           1e3 * (t1 - t0), 1e3 * (t2 - t1), rounds, 1e3 * (t3 - t2), 1e3 * (t3 - t0));
+           1e3 * tw[2], 1e3 * tp[2], rounds, 1e3 * ta[2], 1e3 * (tw[2] + tp[2] + ta[2]));
+    /* How much the robust PCA tolerance moves the first round's errors. */
+    fr_filter_options first = opt;
+    first.max_rounds = 1;
+    first.omega = 1e6;
+    fr_filter_result *ref = malloc(sizeof *ref * n);
+    first.rpca.tol = 1e-9;
+    fr_failure_detection(ctx, n, P, tex, shapes, &first, ref, NULL, NULL);
+    for (double tol = 1e-4; tol >= 1e-8; tol /= 10) {
+        first.rpca.tol = tol;
+        double a = now();
+        fr_failure_detection(ctx, n, P, tex, shapes, &first, res, NULL, NULL);
+        double b = now(), d = 0, spread = 0;
+        for (int i = 0; i < n; i++) d = fmax(d, fabs(res[i].error - ref[i].error)), spread += ref[i].error / n;
+        printf("  one round with robust PCA tolerance %.0e: %.1f ms, errors within %.1e of tolerance 1e-9 "
+               "(mean error %.3f)\n",
+               tol, 1e3 * (b - a), d, spread);
+    }
+    free(ref);
     /* Robust PCA of the texture matrix: singular value thresholding by Gram matrix vs thin SVD. */
     double *L = malloc(sizeof(double) * (size_t)P * n), *S = malloc(sizeof(double) * (size_t)P * n);
+    int saved = fr_blas_serial_begin(); /* as inside the filter */
     for (int m = FR_SVT_SVD; m <= FR_SVT_GRAM; m++) {
-        fr_rpca_options o;
-        fr_rpca_default_options(&o);
+        fr_rpca_options o = opt.rpca;
         o.svt = (fr_svt_method)m;
         fr_rpca_info info;
         double a = now();
@@ -433,6 +487,7 @@ static void bench_runtime(frig_ctx *ctx, const face_set *set) {
                P, n, m == FR_SVT_SVD ? "LAPACK dgesdd" : "Gram + dsyevd", 1e3 * (b - a), info.iterations,
                info.rank, 100.0 * info.nonzeros / ((double)P * n));
     }
+    fr_blas_serial_end(saved);
     free(L);
     free(S);
     free(tex);
@@ -457,20 +512,23 @@ static int bench_mode(frig_ctx *ctx, const char *tool, const char *sheet_dir, co
     fr_face_warp_create(ctx, fr_param_int(ctx, FRIG_PARAM_FILTER_TEXTURE_SIZE), &warp);
     fr_filter_options opt;
     fr_filter_options_from_ctx(ctx, &opt);
+    if (getenv("FILTER_PLAIN")) opt.robust = 0; /* plain PCA instead of robust PCA, for comparison */
     static const double rates[] = {0.0, 0.1, 0.2, 0.3};
     tally total[4][CONFIGS];
     memset(total, 0, sizeof total);
-    printf("\nplanted failures (omega %g, w_t %g, w_s %g, energy %g, texture %d):\n", opt.omega, opt.w_texture,
-           opt.w_shape, opt.pca_energy, fr_face_warp_size(warp));
+    printf("\nplanted failures (%s, omega %g, %s, w_t %g, w_s %g, energy %g, texture %d):\n",
+           opt.robust ? "robust PCA" : "plain PCA", opt.omega,
+           opt.statistic == FR_FILTER_MEDIAN_MAD ? "median/MAD" : "mean/std", opt.w_texture, opt.w_shape,
+           opt.pca_energy, fr_face_warp_size(warp));
     for (int s = 0; s < N_SETS; s++)
         for (int ri = 0; ri < 4; ri++) {
-            if (only && !strstr(only, all_sets[s])) continue;
+            if ((only && !strstr(only, all_sets[s])) || seeds < 1) continue;
             tally t[CONFIGS];
             run_trials(ctx, warp, &sets[s], &sets[(s + 2) % N_SETS], rates[ri], ri == 0 ? 1 : seeds, &opt, t);
             print_tallies(sets[s].name, rates[ri], ri == 0 ? 1 : seeds, t);
             for (int c = 0; c < CONFIGS; c++) {
                 total[ri][c].tp += t[c].tp, total[ri][c].fp += t[c].fp, total[ri][c].fn += t[c].fn;
-                total[ri][c].runs += t[c].runs, total[ri][c].rounds += t[c].rounds;
+                total[ri][c].runs += t[c].runs, total[ri][c].rounds += t[c].rounds, total[ri][c].auc += t[c].auc;
                 for (int k = 0; k < KINDS; k++)
                     total[ri][c].kind_tp[k] += t[c].kind_tp[k], total[ri][c].kind_n[k] += t[c].kind_n[k];
             }

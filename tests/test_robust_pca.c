@@ -99,6 +99,15 @@ static void test_recovery(frig_ctx *ctx) {
     double el = fro_diff(mn, L, L0) / fro(mn, L0);
     printf("rank 5, 10%% corrupt, tol 1e-12: ||L-L0||/||L0|| = %.2e\n", el);
     CHECK(el < 1e-7);
+    /* The same with LAPACK's SVD inside the thresholding: the same answer. */
+    o.svt = FR_SVT_SVD;
+    double *L2 = malloc(sizeof(double) * mn);
+    CHECK(fr_robust_pca(ctx, m, n, X, m, &o, L2, S, NULL) == FRIG_OK);
+    double d = fro_diff(mn, L2, L) / fro(mn, L0);
+    printf("SVT by SVD instead of the Gram matrix: ||L_svd - L_gram||/||L0|| = %.2e\n", d);
+    CHECK(d < 1e-8);
+    free(L2);
+    o.svt = FR_SVT_AUTO;
 
     /* The transposed problem (m < n) takes the other Gram side and gives the transposed answer. */
     plant(77, m, n, 4, 0.08, L0, S0, X);

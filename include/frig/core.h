@@ -121,12 +121,13 @@ typedef enum frig_param {
     FRIG_PARAM_DETECT_MIN_EYE_DISTANCE = 206, /* smaller subject faces are face_too_small, pixels (default 15) */
 
     /* filter (section 4.2, Algorithm 1) */
-    FRIG_PARAM_FILTER_OMEGA = 300,          /* drop e > mu + omega * sigma (default 2) */
+    FRIG_PARAM_FILTER_OMEGA = 300,          /* drop e > mu + omega * sigma (default 3) */
     FRIG_PARAM_FILTER_W_TEXTURE = 301,      /* w_t (default 1.0) */
     FRIG_PARAM_FILTER_W_SHAPE = 302,        /* w_s (default 0.1) */
     FRIG_PARAM_FILTER_MAX_ROUNDS = 303,     /* at most this many rounds (default 10) */
     FRIG_PARAM_FILTER_TEXTURE_SIZE = 304,   /* side of the warped texture (default 64) */
     FRIG_PARAM_FILTER_PCA_ENERGY = 305,     /* variance kept by the PCA models (default 0.98) */
+    FRIG_PARAM_FILTER_ROBUST_STATS = 306,   /* 1: mu, sigma = median, 1.4826 MAD; 0: mean, std (default 1) */
 
     /* fit (sections 4.3-4.4, Algorithm 2) */
     FRIG_PARAM_FIT_W_EXP = 400,             /* expression prior (default 10) */

@@ -33,13 +33,16 @@ static const param_row rows[] = {
     {FRIG_PARAM_DETECT_MIN_EYE_DISTANCE, "detect.min_eye_distance", 15, 0, 10000, 0,
      "a subject whose outer eye corners are closer than this (pixels) makes the photo face_too_small"},
 
-    {FRIG_PARAM_FILTER_OMEGA, "filter.omega", 2.0, 0.1, 100, 0, "drop photos with error > mean + omega * std"},
+    {FRIG_PARAM_FILTER_OMEGA, "filter.omega", 3.0, 0.1, 100, 0,
+     "drop photos with error > mu + omega * sigma (see filter.robust_stats)"},
     {FRIG_PARAM_FILTER_W_TEXTURE, "filter.w_texture", 1.0, 0, 1e6, 0, "weight of the texture error (w_t)"},
     {FRIG_PARAM_FILTER_W_SHAPE, "filter.w_shape", 0.1, 0, 1e6, 0, "weight of the shape error (w_s)"},
     {FRIG_PARAM_FILTER_MAX_ROUNDS, "filter.max_rounds", 10, 1, 1000, 1, "most rounds of outlier removal"},
     {FRIG_PARAM_FILTER_TEXTURE_SIZE, "filter.texture_size", 64, 16, 512, 1, "side of the warped face texture"},
     {FRIG_PARAM_FILTER_PCA_ENERGY, "filter.pca_energy", 0.98, 0.5, 1.0, 0,
      "share of variance kept by the shape and texture PCA models"},
+    {FRIG_PARAM_FILTER_ROBUST_STATS, "filter.robust_stats", 1, 0, 1, 1,
+     "1: mu and sigma are the median and 1.4826 x MAD of the errors; 0: their mean and standard deviation"},
 
     {FRIG_PARAM_FIT_W_EXP, "fit.w_exp", 10, 0, 1e6, 0, "weight of the expression prior (eq. 4.8 w2)"},
     {FRIG_PARAM_FIT_W_SPARSE, "fit.w_sparse", 40, 0, 1e6, 0, "weight of the L1 expression sparsity (eq. 4.8 w3)"},

@@ -8,6 +8,7 @@
 #include "core/context.h"
 #include "filter/face_reference.h"
 #include "filter/face_warp.h"
+#include "filter/procrustes.h"
 #include "image/image.h"
 
 struct fr_face_warp {
@@ -110,20 +111,9 @@ static double bilinear(const frig_image *img, double x, double y) {
 /* How many times larger the face is in the photo than in the frame: the scale of the similarity
  * that best maps the frame shape onto the landmarks. */
 static double face_scale(const fr_face_warp *w, const double *lm) {
-    double cf[2] = {0, 0}, cl[2] = {0, 0};
-    for (int i = 0; i < FR_FACE_POINTS; i++) {
-        cf[0] += w->frame[2 * i], cf[1] += w->frame[2 * i + 1];
-        cl[0] += lm[2 * i], cl[1] += lm[2 * i + 1];
-    }
-    double ff = 0, re = 0, im = 0;
-    for (int i = 0; i < FR_FACE_POINTS; i++) {
-        double px = w->frame[2 * i] - cf[0] / FR_FACE_POINTS, py = w->frame[2 * i + 1] - cf[1] / FR_FACE_POINTS;
-        double qx = lm[2 * i] - cl[0] / FR_FACE_POINTS, qy = lm[2 * i + 1] - cl[1] / FR_FACE_POINTS;
-        ff += px * px + py * py;
-        re += px * qx + py * qy;
-        im += px * qy - py * qx;
-    }
-    return hypot(re, im) / ff;
+    double T[4];
+    fr_similarity_fit(FR_FACE_POINTS, w->frame, lm, T);
+    return hypot(T[0], T[1]);
 }
 
 frig_status fr_face_warp_sample(frig_ctx *ctx, const fr_face_warp *w, const frig_image *img,

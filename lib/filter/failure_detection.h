@@ -21,6 +21,12 @@
 #define FR_FILTER_SHAPE_DIM 136
 #define FR_FILTER_SHAPE_IOD 10.0
 
+/* The centre and spread of the errors in "drop e > mu + omega sigma". */
+typedef enum fr_filter_statistic {
+    FR_FILTER_MEAN_STD = 0,  /* mean and standard deviation (Algorithm 1 as printed) */
+    FR_FILTER_MEDIAN_MAD = 1 /* median and 1.4826 x the median absolute deviation (robust to the outliers) */
+} fr_filter_statistic;
+
 typedef struct fr_filter_options {
     double omega;      /* drop e > mu + omega sigma (filter.omega) */
     double w_texture;  /* w_t (filter.w_texture) */
@@ -28,6 +34,7 @@ typedef struct fr_filter_options {
     double pca_energy; /* variance kept by both PCA models (filter.pca_energy) */
     int max_rounds;    /* filter.max_rounds */
     int robust;        /* 1: PCA of the low-rank part of robust PCA (the paper); 0: plain PCA */
+    fr_filter_statistic statistic;
     fr_rpca_options rpca;
 } fr_filter_options;
 

