@@ -42,6 +42,8 @@ int cmd_detect(cli_env *env, int argc, char **argv);
 extern const char cmd_detect_usage[];
 int cmd_model(cli_env *env, int argc, char **argv);
 extern const char cmd_model_usage[];
+int cmd_filter(cli_env *env, int argc, char **argv);
+extern const char cmd_filter_usage[];
 int cmd_fit(cli_env *env, int argc, char **argv);
 extern const char cmd_fit_usage[];
 int cmd_export(cli_env *env, int argc, char **argv);

@@ -12,9 +12,10 @@ static const cli_command commands[] = {
     {"info", cmd_info, "describe images as libfrig reads them", cmd_info_usage},
     {"detect", cmd_detect, "find faces and 68 landmarks in photos, write report.json and overlays",
      cmd_detect_usage},
-    {"model", cmd_model, "import the ICT-FaceKit model, describe it, export its rig", cmd_model_usage},
+    {"filter", cmd_filter, "drop photos whose landmarks failed (robust PCA, section 4.2)", cmd_filter_usage},
     {"fit", cmd_fit, "fit the face model to the workspace's photos (sections 4.3-4.4)", cmd_fit_usage},
     {"export", cmd_export, "write the workspace's rig as glTF and OBJ files", cmd_export_usage},
+    {"model", cmd_model, "import the ICT-FaceKit model, describe it, export its rig", cmd_model_usage},
     {"synth", cmd_synth, "render synthetic subjects and photos with their ground truth", cmd_synth_usage},
 };
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
