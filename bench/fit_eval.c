@@ -19,6 +19,7 @@
 #include "fit/photo_consistency.h"
 #include "fit/progressive_fit.h"
 #include "frig/detect.h"
+#include "frig/filter.h"
 #include "frig/frig.h"
 #include "frig/synth.h"
 #include "raster/rotation.h"
@@ -133,6 +134,8 @@ int main(int argc, char **argv) {
         fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
         return 1;
     }
+    char tmpdir[] = "/tmp/fit_eval_XXXXXX";
+    if (detected && !mkdtemp(tmpdir)) return 1;
     frig_detector *det = NULL;
     if (detected && frig_detector_create(ctx, NULL, NULL, &det)) {
         fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
@@ -149,9 +152,9 @@ int main(int argc, char **argv) {
     row rows[3] = {{0}};
     double seconds[3] = {0};
     rng r = {seed * 7919 + 17};
-    printf("fit on synthetic ground truth: %d subjects x %d photos (%s), landmarks %s, noise %.1f%% of eye distance, "
+    printf("fit on synthetic ground truth: %d subjects x %d photos, landmarks %s, noise %.1f%% of eye distance, "
            "%.0f%% corrupted, %s camera\n",
-           subjects, photos, "those with a detected face are fitted", detected ? "from our detector" : "truth (detector-like)", noise, corrupt * 100,
+           subjects, photos, detected ? "from our detect and filter stages (noise and corruption options unused)" : "truth (detector-like)", noise, corrupt * 100,
            st.perspective ? "perspective" : "weak-perspective");
     printf("%-8s %-26s %10s %9s %9s %9s %9s\n", "subject", "scheme", "neutral mm", "rot deg", "exp |w|", "exp mm",
            "reproj px");
@@ -165,6 +168,8 @@ int main(int argc, char **argv) {
         double (*Rt)[9] = calloc((size_t)photos, sizeof *Rt);
         double *wt = calloc((size_t)photos * nshape, sizeof(double));
         frig_image **crops = calloc((size_t)photos, sizeof *crops);
+        double (*Rt_all)[9] = calloc((size_t)photos, sizeof *Rt_all), t_unused[3];
+        double *wt_all = calloc((size_t)photos * nshape, sizeof(double));
         int n = 0;
         for (int p = 0; p < photos; p++) {
             frig_image *img = NULL;
@@ -176,12 +181,16 @@ int main(int argc, char **argv) {
             double *dst = lmk + 136 * (size_t)n;
             int ok = q != NULL;
             if (ok && detected) {
-                /* Our detector on the rendered photo: its subject face (the largest). */
-                size_t count = 0;
-                double box[4 * 8], score[8], lm8[136 * 8];
-                int src[8];
-                ok = frig_detect_faces(ctx, det, img, 8, &count, box, score, src, lm8) == FRIG_OK && count > 0;
-                if (ok) memcpy(dst, lm8, sizeof(double) * 136);
+                /* Saved as a JPEG for the detect and filter stages, below. */
+                char path[4200];
+                snprintf(path, sizeof path, "%s/photo_%03d.jpg", tmpdir, p);
+                frig_ctx_set_param(ctx, FRIG_PARAM_IMAGE_JPEG_QUALITY, frig_synth_truth_jpeg_quality(tr));
+                ok = frig_image_save_jpeg(ctx, img, path) == FRIG_OK;
+                frig_synth_truth_pose(tr, Rt_all[p], t_unused);
+                memcpy(wt_all + (size_t)p * nshape, frig_synth_truth_expression(tr), sizeof(double) * (size_t)nshape);
+                frig_image_free(img);
+                frig_synth_truth_free(tr);
+                continue;
             } else if (ok) {
                 double l[2] = {0, 0}, rr[2] = {0, 0};
                 for (int k = 36; k < 42; k++) l[0] += q[2 * k] / 6, l[1] += q[2 * k + 1] / 6;
@@ -210,6 +219,43 @@ int main(int argc, char **argv) {
             frig_image_free(img);
             frig_synth_truth_free(tr);
         }
+        if (detected) {
+            /* The pipeline's own landmarks: detect, then filter (Algorithm 1), on the saved photos. */
+            frig_photoset *set = NULL;
+            frig_photoset_create(ctx, &set);
+            for (int p = 0; p < photos; p++) {
+                char path[4200];
+                snprintf(path, sizeof path, "%s/photo_%03d.jpg", tmpdir, p);
+                frig_photoset_add(ctx, set, path, NULL);
+            }
+            if (frig_detect_photoset(ctx, det, set) || frig_filter(ctx, set, NULL)) {
+                fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
+                return 1;
+            }
+            int dropped = 0, undetected = 0;
+            for (int p = 0; p < photos; p++) {
+                frig_photo_status ps = frig_photoset_status(set, (size_t)p);
+                long sub = frig_photoset_subject(set, (size_t)p);
+                dropped += ps == FRIG_PHOTO_OUTLIER;
+                undetected += ps != FRIG_PHOTO_OK && ps != FRIG_PHOTO_OUTLIER;
+                double *dst = lmk + 136 * (size_t)n;
+                if (ps != FRIG_PHOTO_OK || sub < 0 || frig_photoset_face_landmarks(set, (size_t)p, (size_t)sub, dst)) continue;
+                frig_image *img = NULL;
+                if (frig_image_load(ctx, frig_photoset_path(set, (size_t)p), 0, &img)) continue;
+                memcpy(Rt[n], Rt_all[p], sizeof Rt[n]);
+                memcpy(wt + (size_t)n * nshape, wt_all + (size_t)p * nshape, sizeof(double) * (size_t)nshape);
+                in[n].landmarks = dst;
+                in[n].width = frig_image_width(img);
+                in[n].height = frig_image_height(img);
+                if (fr_face_crop(ctx, img, dst, 160, &crops[n], in[n].crop_origin, &in[n].crop_scale)) crops[n] = NULL;
+                in[n].crop = crops[n];
+                frig_image_free(img);
+                n++;
+            }
+            printf("%-8d %d photos: %d without a usable face, %d dropped by the filter, %d fitted\n", s, photos,
+                   undetected, dropped, n);
+            frig_photoset_free(set);
+        }
         float *truth_neutral = malloc(sizeof(float) * 3 * (size_t)nv), *est = malloc(sizeof(float) * 3 * (size_t)nv);
         float *truth_exp = malloc(sizeof(float) * 3 * (size_t)nv), *est_exp = malloc(sizeof(float) * 3 * (size_t)nv);
         memcpy(truth_neutral, frig_rig_neutral(truth_rig), sizeof(float) * 3 * (size_t)nv);
@@ -233,6 +279,13 @@ int main(int argc, char **argv) {
                 frig_model_eval(ctx, model, res[i].w, NULL, est);
                 o.neutral_mm += aligned_error(truth_neutral, est, nface) * 1000;
                 o.rot_deg += fr_rotation_angle_deg(Rt[i], res[i].R);
+                if (getenv("FIT_EVAL_VERBOSE")) {
+                    double ya, pa, ra, yb, pb, rb;
+                    fr_rotation_to_euler(Rt[i], &ya, &pa, &ra);
+                    fr_rotation_to_euler(res[i].R, &yb, &pb, &rb);
+                    printf("   photo %d: truth ypr %.0f %.0f %.0f, fit %.0f %.0f %.0f, rms %.1f px\n", i, ya * 57.3,
+                           pa * 57.3, ra * 57.3, yb * 57.3, pb * 57.3, rb * 57.3, res[i].rms_px);
+                }
                 o.reproj_px += res[i].rms_px;
                 /* Expressions: weights by name, and the face displacement they make. */
                 memset(exp_all, 0, sizeof(double) * (size_t)frig_model_expression_count(model));
@@ -277,7 +330,7 @@ int main(int argc, char **argv) {
         printf("%-8d %-26s %10.2f   (offset outside the span: %.2f mm RMS)\n", s, "mean face (no fit)",
                aligned_error(truth_neutral, est, nface) * 1000, frig_synth_subject_offset_rms_mm(subj));
         for (int i = 0; i < n; i++) frig_image_free(crops[i]);
-        free(crops), free(in), free(lmk), free(Rt), free(wt), free(res), free(W);
+        free(crops), free(in), free(lmk), free(Rt), free(wt), free(res), free(W), free(Rt_all), free(wt_all);
         free(truth_neutral), free(est), free(truth_exp), free(est_exp);
         frig_synth_subject_free(subj);
     }
