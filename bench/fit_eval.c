@@ -13,9 +13,8 @@
 #include <string.h>
 #include <time.h>
 
-#include <lapacke.h>
-
 #include "core/context.h"
+#include "eval/shape_error.h"
 #include "fit/photo_consistency.h"
 #include "fit/progressive_fit.h"
 #include "frig/detect.h"
@@ -39,47 +38,6 @@ static double gauss(rng *r) {
     return sqrt(-2 * log(u)) * cos(2 * M_PI * v);
 }
 
-/* Mean distance (m) between a and b over vertices [0, n) after the similarity transform
- * (rotation, translation, scale) of b that best fits a. */
-static double aligned_error(const float *a, const float *b, int n) {
-    double ma[3] = {0}, mb[3] = {0};
-    for (int v = 0; v < n; v++)
-        for (int c = 0; c < 3; c++) ma[c] += a[3 * v + c] / n, mb[c] += b[3 * v + c] / n;
-    double S[9] = {0}, sb = 0; /* column-major M = sum (b - mb)(a - ma)^T */
-    for (int v = 0; v < n; v++)
-        for (int i = 0; i < 3; i++) {
-            double bi = b[3 * v + i] - mb[i];
-            sb += bi * bi;
-            for (int j = 0; j < 3; j++) S[i + 3 * j] += bi * (a[3 * v + j] - ma[j]);
-        }
-    double U[9], VT[9], sv[3], sup[2];
-    LAPACKE_dgesvd(LAPACK_COL_MAJOR, 'A', 'A', 3, 3, S, 3, sv, U, 3, VT, 3, sup);
-    /* R = V D U^T maps b onto a, D fixes a reflection. */
-    double det = 0, R[9];
-    for (int pass = 0; pass < 2; pass++) {
-        double d3 = pass == 0 ? 1 : -1;
-        for (int i = 0; i < 3; i++)
-            for (int j = 0; j < 3; j++) {
-                double r = 0;
-                for (int k = 0; k < 3; k++) r += VT[k + 3 * i] * (k == 2 ? d3 : 1) * U[j + 3 * k];
-                R[3 * i + j] = r;
-            }
-        det = R[0] * (R[4] * R[8] - R[5] * R[7]) - R[1] * (R[3] * R[8] - R[5] * R[6]) + R[2] * (R[3] * R[7] - R[4] * R[6]);
-        if (det > 0) break;
-    }
-    double scale = (sv[0] + sv[1] + (det > 0 && sv[2] >= 0 ? sv[2] : -sv[2])) / sb;
-    double e = 0;
-    for (int v = 0; v < n; v++) {
-        double d = 0;
-        for (int i = 0; i < 3; i++) {
-            double x = ma[i];
-            for (int j = 0; j < 3; j++) x += scale * R[3 * i + j] * (b[3 * v + j] - mb[j]);
-            d += (x - a[3 * v + i]) * (x - a[3 * v + i]);
-        }
-        e += sqrt(d);
-    }
-    return e / n;
-}
 
 typedef struct row {
     double neutral_mm, rot_deg, exp_w, exp_mm, reproj_px;
@@ -277,7 +235,7 @@ int main(int argc, char **argv) {
             for (int i = 0; i < n; i++) {
                 /* Neutral: this photo's identity (its own for individual fits). */
                 frig_model_eval(ctx, model, res[i].w, NULL, est);
-                o.neutral_mm += aligned_error(truth_neutral, est, nface) * 1000;
+                o.neutral_mm += fr_aligned_mean_distance(truth_neutral, est, nface) * 1000;
                 o.rot_deg += fr_rotation_angle_deg(Rt[i], res[i].R);
                 if (getenv("FIT_EVAL_VERBOSE")) {
                     double ya, pa, ra, yb, pb, rb;
@@ -328,7 +286,7 @@ int main(int argc, char **argv) {
         /* The mean face, for scale. */
         frig_model_eval(ctx, model, NULL, NULL, est);
         printf("%-8d %-26s %10.2f   (offset outside the span: %.2f mm RMS)\n", s, "mean face (no fit)",
-               aligned_error(truth_neutral, est, nface) * 1000, frig_synth_subject_offset_rms_mm(subj));
+               fr_aligned_mean_distance(truth_neutral, est, nface) * 1000, frig_synth_subject_offset_rms_mm(subj));
         for (int i = 0; i < n; i++) frig_image_free(crops[i]);
         free(crops), free(in), free(lmk), free(Rt), free(wt), free(res), free(W), free(Rt_all), free(wt_all);
         free(truth_neutral), free(est), free(truth_exp), free(est_exp);

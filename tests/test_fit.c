@@ -7,9 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <lapacke.h>
-
 #include "core/context.h"
+#include "eval/shape_error.h"
 #include "fit/photo_consistency.h"
 #include "fit/progressive_fit.h"
 #include "frig/synth.h"
@@ -42,37 +41,6 @@ static double uniform(void) {
 }
 static double gauss(void) { return sqrt(-2 * log(uniform() + 1e-300)) * cos(2 * M_PI * uniform()); }
 
-/* Mean distance after the best similarity transform of b onto a (first n vertices). */
-static double aligned_error(const float *a, const float *b, int n) {
-    double ma[3] = {0}, mb[3] = {0}, S[9] = {0}, sb = 0;
-    for (int v = 0; v < n; v++)
-        for (int c = 0; c < 3; c++) ma[c] += a[3 * v + c] / n, mb[c] += b[3 * v + c] / n;
-    for (int v = 0; v < n; v++)
-        for (int i = 0; i < 3; i++) {
-            double bi = b[3 * v + i] - mb[i];
-            sb += bi * bi;
-            for (int j = 0; j < 3; j++) S[i + 3 * j] += bi * (a[3 * v + j] - ma[j]);
-        }
-    double U[9], VT[9], sv[3], sup[2], R[9];
-    LAPACKE_dgesvd(LAPACK_COL_MAJOR, 'A', 'A', 3, 3, S, 3, sv, U, 3, VT, 3, sup);
-    for (int i = 0; i < 3; i++)
-        for (int j = 0; j < 3; j++) {
-            double r = 0;
-            for (int k = 0; k < 3; k++) r += VT[k + 3 * i] * U[j + 3 * k];
-            R[3 * i + j] = r;
-        }
-    double scale = (sv[0] + sv[1] + sv[2]) / sb, e = 0;
-    for (int v = 0; v < n; v++) {
-        double d = 0;
-        for (int i = 0; i < 3; i++) {
-            double x = ma[i];
-            for (int j = 0; j < 3; j++) x += scale * R[3 * i + j] * (b[3 * v + j] - mb[j]);
-            d += (x - a[3 * v + i]) * (x - a[3 * v + i]);
-        }
-        e += sqrt(d);
-    }
-    return e / n;
-}
 
 static int make_data(frig_ctx *ctx, const frig_synth_subject *subj, uint64_t seed, data *d) {
     memset(d, 0, sizeof *d);
@@ -127,7 +95,7 @@ static score run(frig_ctx *ctx, const frig_model *m, const fr_fit_model *fm, con
     int active = 0;
     for (int i = 0; i < d->n; i++) {
         frig_model_eval(ctx, m, res[i].w, NULL, est);
-        s.neutral_mm += aligned_error(frig_rig_neutral(d->truth), est, nface) * 1000 / d->n;
+        s.neutral_mm += fr_aligned_mean_distance(frig_rig_neutral(d->truth), est, nface) * 1000 / d->n;
         s.rot_deg += fr_rotation_angle_deg(d->R[i], res[i].R) / d->n;
         if (i % 7 != 3) /* not the corrupted photos */
             for (int k = 0; k < fm->n_exp; k++) active += res[i].w[fm->n_id + k] > 0.15;
@@ -162,7 +130,7 @@ static void test_schemes(frig_ctx *ctx, const frig_model *m) {
         int nv = frig_model_vertex_count(m);
         float *mean = malloc(sizeof(float) * 3 * (size_t)nv);
         frig_model_eval(ctx, m, NULL, NULL, mean);
-        double mean_mm = aligned_error(frig_rig_neutral(d.truth), mean, 9409) * 1000;
+        double mean_mm = fr_aligned_mean_distance(frig_rig_neutral(d.truth), mean, 9409) * 1000;
         free(mean);
         score ind = run(ctx, m, &fm, &st, FR_SCHEME_INDIVIDUAL, &d, w);
         score prog = run(ctx, m, &fm, &st, FR_SCHEME_PROGRESSIVE, &d, w);
