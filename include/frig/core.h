@@ -116,7 +116,7 @@ typedef enum frig_param {
     FRIG_PARAM_DETECT_MIN_NEIGHBORS = 201,  /* cascade grouping threshold (default 3) */
     FRIG_PARAM_DETECT_MIN_FACE = 202,       /* smallest face, pixels (default 30) */
     FRIG_PARAM_DETECT_PROFILE = 203,        /* profile cascade where the frontal finds nothing (default 1) */
-    FRIG_PARAM_DETECT_MAX_SIDE = 204,       /* detect on a copy downscaled to this side (default 1600) */
+    FRIG_PARAM_DETECT_MAX_SIDE = 204,       /* detect on a copy downscaled to this side (default 1024) */
     FRIG_PARAM_DETECT_USER_LANDMARKS = 205, /* use PHOTO.pts / PHOTO.landmarks.json when present (default 1) */
     FRIG_PARAM_DETECT_MIN_EYE_DISTANCE = 206, /* smaller subject faces are face_too_small, pixels (default 15) */
 

@@ -26,7 +26,7 @@ static const param_row rows[] = {
     {FRIG_PARAM_DETECT_MIN_FACE, "detect.min_face", 30, 10, 100000, 1, "smallest face side searched, in pixels"},
     {FRIG_PARAM_DETECT_PROFILE, "detect.profile", 1, 0, 1, 1,
      "1: where the frontal cascade finds no face, run the profile cascade on the photo and its mirror image"},
-    {FRIG_PARAM_DETECT_MAX_SIDE, "detect.max_side", 1600, 64, 100000, 1,
+    {FRIG_PARAM_DETECT_MAX_SIDE, "detect.max_side", 1024, 64, 100000, 1,
      "detect faces on a copy whose longer side is at most this (landmarks use full resolution)"},
     {FRIG_PARAM_DETECT_USER_LANDMARKS, "detect.user_landmarks", 1, 0, 1, 1,
      "1: landmarks in PHOTO.pts or PHOTO.landmarks.json beside a photo replace detection"},
