@@ -170,6 +170,10 @@ void fr_fit_photo_init(const fr_fit_model *fm, fr_fit_photo *p, const double *la
     fr_fit_photo_init_pose(fm, p);
 }
 
+void fr_fit_photo_set_contour_weight(fr_fit_photo *p, double w) {
+    for (int k = 0; k < FR_CONTOUR_LANDMARKS; k++) p->weight[k] = w;
+}
+
 /* ---- residuals and Jacobian ---- */
 
 typedef struct problem {

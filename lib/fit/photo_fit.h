@@ -47,6 +47,9 @@ typedef struct fr_fit_options {
 void fr_fit_photo_init(const fr_fit_model *fm, fr_fit_photo *p, const double *landmarks, int width, int height,
                        int perspective, double *w);
 
+/* Weight of the jaw landmarks (0-16) relative to the others. */
+void fr_fit_photo_set_contour_weight(fr_fit_photo *p, double w);
+
 /* Re-estimate the pose from the current shape (keeps w). */
 void fr_fit_photo_init_pose(const fr_fit_model *fm, fr_fit_photo *p);
 

@@ -35,6 +35,8 @@ void fr_fit_settings_from_ctx(const frig_ctx *ctx, fr_fit_settings *s) {
     s->end.sparse = s->start.sparse / 2;
     s->end.focal = s->start.focal;
     s->joint_w_id = s->start.id;
+    s->joint_prior = fr_param(ctx, FRIG_PARAM_FIT_JOINT_PRIOR);
+    s->contour_weight = fr_param(ctx, FRIG_PARAM_FIT_CONTOUR_WEIGHT);
     s->iterations = fr_param_int(ctx, FRIG_PARAM_FIT_ITERATIONS);
     s->joint_sweeps = 4;
     s->threads = fr_threads(ctx);
@@ -86,6 +88,7 @@ static frig_status fit_photos(run *r, const int *which, int count, const double 
         if (reinit) {
             memset(p->w + fm->n_id, 0, sizeof(double) * (size_t)fm->n_exp);
             fr_fit_photo_init(fm, p, r->in[i].landmarks, r->in[i].width, r->in[i].height, r->s->perspective, p->w);
+            fr_fit_photo_set_contour_weight(p, r->s->contour_weight);
         }
         if (fr_fit_photo_run(r->ctx, fm, p, &opt) != FRIG_OK) err = 1;
         fr_progress_tick(r->ctx, &r->done, stage, (size_t)count);
@@ -258,7 +261,9 @@ static frig_status progressive(run *r, fr_fit_result *res, double *identity) {
         for (int a = 0; a < k; a++) in_joint[which[a]] = 1;
         /* Joint fit from the subset's centroid, which is also its prior (section 4.3.3). */
         mean_identity(r, which, k, identity);
-        memcpy(prior, identity, sizeof(double) * (size_t)ni);
+        /* The joint prior (section 4.3.3: the subset's centroid; fit.joint_prior scales it
+         * toward the model mean, which the author's code uses). */
+        for (int q = 0; q < ni; q++) prior[q] = s->joint_prior * identity[q];
         snprintf(stage, sizeof stage, "fit.joint.%d", round + 1);
         st = joint_fit(r, which, k, identity, prior, stage);
         fr_log(r->ctx, FRIG_LOG_INFO, "fit round %d: joint identity on %d of %d photos", round + 1, k, n);
@@ -314,6 +319,7 @@ frig_status fr_fit_run(frig_ctx *ctx, const fr_fit_model *fm, const fr_fit_setti
     for (int i = 0; i < n; i++) {
         r.ph[i].w = r.w + (size_t)i * fm->n_cols;
         fr_fit_photo_init(fm, &r.ph[i], in[i].landmarks, in[i].width, in[i].height, s->perspective, r.ph[i].w);
+        fr_fit_photo_set_contour_weight(&r.ph[i], s->contour_weight);
     }
     /* The fit's linear algebra is small: OpenBLAS threads would only spin (docs/api.md). */
     int saved = fr_blas_serial_begin();

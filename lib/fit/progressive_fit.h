@@ -37,7 +37,9 @@ typedef struct fr_fit_settings {
     double subset_first, subset_step; /* 0.4, 0.2 */
     double score_w_id, score_w_tex;   /* eq. 4.11: 1, 10 */
     fr_fit_weights start, end;     /* prior weights, decreasing */
-    double joint_w_id;             /* identity prior weight in the joint fit (eq. 4.9 w3) */
+    double joint_w_id;             /* identity prior weight in the joint fit (eq. 4.9 w3), per photo */
+    double joint_prior;            /* the joint prior is this fraction of the subset's centroid */
+    double contour_weight;         /* weight of the jaw landmarks 0-16 */
     int iterations;                /* LM iterations of an individual fit */
     int joint_sweeps;              /* alternations pose/expression <-> identity */
     int threads;
