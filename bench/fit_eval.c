@@ -46,6 +46,35 @@ typedef struct row {
 
 static const char *scheme_name[] = {"individual fits only", "naive joint fit", "progressive (Algorithm 2)"};
 
+/* Detected minus true landmarks on near-frontal photos (|yaw| < 15 deg), in % of the eye
+ * distance: a systematic offset here is a landmark-embedding mismatch, not detector noise. */
+static double bias_sum[136], bias_err[68];
+static int bias_count;
+
+static void landmark_bias_add(const double *truth, const double *det, const double R[9]) {
+    double yaw, pitch, roll;
+    fr_rotation_to_euler(R, &yaw, &pitch, &roll);
+    if (fabs(yaw) * 57.3 > 15) return;
+    double l[2] = {0, 0}, r[2] = {0, 0};
+    for (int k = 36; k < 42; k++) l[0] += truth[2 * k] / 6, l[1] += truth[2 * k + 1] / 6;
+    for (int k = 42; k < 48; k++) r[0] += truth[2 * k] / 6, r[1] += truth[2 * k + 1] / 6;
+    double eye = hypot(l[0] - r[0], l[1] - r[1]);
+    for (int k = 0; k < 68; k++) {
+        double dx = (det[2 * k] - truth[2 * k]) / eye, dy = (det[2 * k + 1] - truth[2 * k + 1]) / eye;
+        bias_sum[2 * k] += dx, bias_sum[2 * k + 1] += dy;
+        bias_err[k] += hypot(dx, dy);
+    }
+    bias_count++;
+}
+
+static void landmark_bias_print(void) {
+    if (!bias_count || !getenv("FIT_EVAL_LANDMARK_BIAS")) return;
+    printf("landmark bias on %d near-frontal photos, %% of eye distance (mean dx, dy; mean |d|):\n", bias_count);
+    for (int k = 0; k < 68; k++)
+        printf("  %2d %6.1f %6.1f %6.1f\n", k, 100 * bias_sum[2 * k] / bias_count, 100 * bias_sum[2 * k + 1] / bias_count,
+               100 * bias_err[k] / bias_count);
+}
+
 int main(int argc, char **argv) {
     if (argc < 2) {
         fprintf(stderr, "usage: fit_eval MODEL [options]\n");
@@ -128,6 +157,7 @@ int main(int argc, char **argv) {
         frig_image **crops = calloc((size_t)photos, sizeof *crops);
         double (*Rt_all)[9] = calloc((size_t)photos, sizeof *Rt_all), t_unused[3];
         double *wt_all = calloc((size_t)photos * nshape, sizeof(double));
+        double *lmk_truth = calloc((size_t)photos * 136, sizeof(double));
         int n = 0;
         for (int p = 0; p < photos; p++) {
             frig_image *img = NULL;
@@ -145,6 +175,7 @@ int main(int argc, char **argv) {
                 frig_ctx_set_param(ctx, FRIG_PARAM_IMAGE_JPEG_QUALITY, frig_synth_truth_jpeg_quality(tr));
                 ok = frig_image_save_jpeg(ctx, img, path) == FRIG_OK;
                 frig_synth_truth_pose(tr, Rt_all[p], t_unused);
+                memcpy(lmk_truth + 136 * (size_t)p, q, sizeof(double) * 136);
                 memcpy(wt_all + (size_t)p * nshape, frig_synth_truth_expression(tr), sizeof(double) * (size_t)nshape);
                 frig_image_free(img);
                 frig_synth_truth_free(tr);
@@ -201,6 +232,7 @@ int main(int argc, char **argv) {
                 frig_image *img = NULL;
                 if (frig_image_load(ctx, frig_photoset_path(set, (size_t)p), 0, &img)) continue;
                 memcpy(Rt[n], Rt_all[p], sizeof Rt[n]);
+                landmark_bias_add(lmk_truth + 136 * (size_t)p, dst, Rt_all[p]);
                 memcpy(wt + (size_t)n * nshape, wt_all + (size_t)p * nshape, sizeof(double) * (size_t)nshape);
                 in[n].landmarks = dst;
                 in[n].width = frig_image_width(img);
@@ -288,10 +320,11 @@ int main(int argc, char **argv) {
         printf("%-8d %-26s %10.2f   (offset outside the span: %.2f mm RMS)\n", s, "mean face (no fit)",
                fr_aligned_mean_distance(truth_neutral, est, nface) * 1000, frig_synth_subject_offset_rms_mm(subj));
         for (int i = 0; i < n; i++) frig_image_free(crops[i]);
-        free(crops), free(in), free(lmk), free(Rt), free(wt), free(res), free(W), free(Rt_all), free(wt_all);
+        free(crops), free(in), free(lmk), free(Rt), free(wt), free(res), free(W), free(Rt_all), free(wt_all), free(lmk_truth);
         free(truth_neutral), free(est), free(truth_exp), free(est_exp);
         frig_synth_subject_free(subj);
     }
+    if (detected) landmark_bias_print();
     printf("\naverage over %d subjects:\n", subjects);
     for (const char *c = schemes; *c; c++) {
         int sc = *c - '0';

@@ -142,7 +142,7 @@ typedef enum frig_param {
     FRIG_PARAM_FIT_ITERATIONS = 409,        /* Levenberg-Marquardt iterations per fit (default 20) */
     FRIG_PARAM_FIT_PERSPECTIVE = 410,       /* 1: perspective camera, 0: weak perspective (default 1) */
     FRIG_PARAM_FIT_CONTOUR_WEIGHT = 411,    /* weight of the jaw landmarks 0-16 (default 0.25) */
-    FRIG_PARAM_FIT_JOINT_PRIOR = 412,       /* joint identity prior = this x the subset centroid (default 1) */
+    FRIG_PARAM_FIT_JOINT_PRIOR = 412,       /* joint identity prior = this x the subset centroid (default 0: the model mean) */
 
     /* synthetic ground truth */
     FRIG_PARAM_SYNTH_MAX_YAW = 500,         /* degrees (default 60) */

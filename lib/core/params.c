@@ -59,7 +59,7 @@ static const param_row rows[] = {
      "1: perspective camera with fitted focal length; 0: weak perspective"},
     {FRIG_PARAM_FIT_CONTOUR_WEIGHT, "fit.contour_weight", 0.25, 0, 1, 0,
      "weight of the jaw landmarks 0-16 (a detector's jaw points err twice as much as the others)"},
-    {FRIG_PARAM_FIT_JOINT_PRIOR, "fit.joint_prior", 1, 0, 1, 0,
+    {FRIG_PARAM_FIT_JOINT_PRIOR, "fit.joint_prior", 0, 0, 1, 0,
      "joint identity prior: this fraction of the selected photos' mean identity (1: the paper; 0: the model mean)"},
 
     {FRIG_PARAM_SYNTH_MAX_YAW, "synth.max_yaw", 60, 0, 90, 0, "largest head yaw of synthetic photos, degrees"},
