@@ -103,15 +103,15 @@ static void clear_overlays(const char *dir) {
 }
 
 static void print_summary(const frig_photoset *set, const char *workspace, int overlays) {
-    size_t counts[FRIG_PHOTO_FIT_FAILED + 1] = {0}, faces = 0;
+    size_t counts[FRIG_PHOTO_DUPLICATE + 1] = {0}, faces = 0;
     for (size_t i = 0; i < frig_photoset_count(set); i++) {
         frig_photo_status s = frig_photoset_status(set, i);
-        if ((unsigned)s <= FRIG_PHOTO_FIT_FAILED) counts[s]++;
+        if ((unsigned)s <= FRIG_PHOTO_DUPLICATE) counts[s]++;
         faces += frig_photoset_face_count(set, i);
     }
     printf("%zu photos, %zu faces:", frig_photoset_count(set), faces);
     const char *sep = " ";
-    for (int s = FRIG_PHOTO_OK; s <= FRIG_PHOTO_FIT_FAILED; s++)
+    for (int s = FRIG_PHOTO_OK; s <= FRIG_PHOTO_DUPLICATE; s++)
         if (counts[s]) printf("%s%s %zu", sep, frig_photo_status_name((frig_photo_status)s), counts[s]), sep = ", ";
     printf("\nreport: %s/report.json%s%s%s\n", workspace, overlays ? "; overlays: " : "", overlays ? workspace : "",
            overlays ? "/overlays/detect/" : "");

@@ -122,6 +122,17 @@ check 'grep -q "opencv-data" "$tmp/err"'
 "$F" detect "$in/a_blair.jpg" -w "$tmp/ws2" --landmark-model "$tmp/nowhere.dat" 2> "$tmp/err"; check '[ $? = 1 ]'
 check 'grep -q "libdlib-data" "$tmp/err"'
 
+# Byte-identical copies (scraped sets repeat photos): the later copy is a duplicate naming the first.
+mkdir -p "$tmp/dup" && cp "$in/a_blair.jpg" "$tmp/dup/x.jpg" && cp "$in/a_blair.jpg" "$tmp/dup/y.jpg"
+cp "$in/b_powell.JPG" "$tmp/dup/z.jpg"
+"$F" --quiet detect "$tmp/dup" -w "$tmp/ws5" --no-overlays; check '[ $? = 0 ]'
+dupcheck='import json,sys; p={q["file"].rsplit("/",1)[-1]: q for q in json.load(open(sys.argv[1]))["photos"]}
+sys.exit(not (p["x.jpg"]["status"]=="ok" and p["z.jpg"]["status"]==sys.argv[2] and p["y.jpg"]["status"]==sys.argv[3]
+              and (sys.argv[3]=="ok" or p["y.jpg"]["reason"].endswith("x.jpg"))))'
+check '/usr/bin/python3 -c "$dupcheck" "$tmp/ws5/report.json" ok duplicate'
+"$F" --quiet --set detect.duplicates=0 detect "$tmp/dup" -w "$tmp/ws5" --no-overlays; check '[ $? = 0 ]'
+check '/usr/bin/python3 -c "$dupcheck" "$tmp/ws5/report.json" ok ok'
+
 # The progress bar, on a terminal.
 if command -v script > /dev/null; then
   script -qec "'$F' detect '$in' -w '$tmp/ws4' --no-overlays" /dev/null > "$tmp/tty" 2>&1

@@ -22,7 +22,8 @@ typedef enum frig_photo_status {
     FRIG_PHOTO_NO_FACE = 3,    /* no face found */
     FRIG_PHOTO_FACE_TOO_SMALL = 4, /* faces found, but the subject is too small to use */
     FRIG_PHOTO_OUTLIER = 5,    /* dropped by the filter stage (robust PCA, Algorithm 1) */
-    FRIG_PHOTO_FIT_FAILED = 6  /* the model fit did not converge to anything usable */
+    FRIG_PHOTO_FIT_FAILED = 6, /* the model fit did not converge to anything usable */
+    FRIG_PHOTO_DUPLICATE = 7   /* the same bytes as an earlier photo of the set (reason names it) */
 } frig_photo_status;
 
 /* "ok", "no_face", ... (the report's spelling); NULL for an unknown value. */

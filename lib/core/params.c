@@ -32,6 +32,8 @@ static const param_row rows[] = {
      "1: landmarks in PHOTO.pts or PHOTO.landmarks.json beside a photo replace detection"},
     {FRIG_PARAM_DETECT_MIN_EYE_DISTANCE, "detect.min_eye_distance", 15, 0, 10000, 0,
      "a subject whose outer eye corners are closer than this (pixels) makes the photo face_too_small"},
+    {FRIG_PARAM_DETECT_DUPLICATES, "detect.duplicates", 1, 0, 1, 1,
+     "1: a photo whose file has the same bytes as an earlier one is marked duplicate (scraped sets repeat photos)"},
 
     {FRIG_PARAM_FILTER_OMEGA, "filter.omega", 3.0, 0.1, 100, 0,
      "drop photos with error > mu + omega * sigma (see filter.robust_stats)"},

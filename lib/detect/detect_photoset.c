@@ -7,6 +7,7 @@
 
 #include "core/context.h"
 #include "detect/detector.h"
+#include "detect/duplicates.h"
 #include "image/image.h"
 #include "workspace/photoset.h"
 
@@ -92,5 +93,7 @@ static frig_status photo_item(frig_ctx *child, size_t i, void *user) {
 frig_status frig_detect_photoset(frig_ctx *ctx, const frig_detector *det, frig_photoset *set) {
     if (!det || !set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_detect_photoset: NULL argument");
     photo_job job = {det, set};
-    return fr_parallel_items(ctx, set->count, "detect", photo_item, &job);
+    frig_status st = fr_parallel_items(ctx, set->count, "detect", photo_item, &job);
+    if (!st && fr_param_int(ctx, FRIG_PARAM_DETECT_DUPLICATES)) st = fr_mark_duplicates(ctx, set);
+    return st;
 }

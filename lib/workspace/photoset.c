@@ -7,7 +7,7 @@
 #include "workspace/photoset.h"
 
 static const char *const status_names[] = {"pending", "ok", "unreadable", "no_face", "face_too_small", "outlier",
-                                           "fit_failed"};
+                                           "fit_failed", "duplicate"};
 
 const char *frig_photo_status_name(frig_photo_status s) {
     return (unsigned)s < sizeof status_names / sizeof status_names[0] ? status_names[s] : NULL;

@@ -90,7 +90,7 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
     s = fr_atomic_open(ctx, path, &af);
     free(path);
     if (s) return s;
-    size_t counts[FRIG_PHOTO_FIT_FAILED + 1] = {0};
+    size_t counts[FRIG_PHOTO_DUPLICATE + 1] = {0};
     for (size_t i = 0; i < set->count; i++) counts[set->photos[i].status]++;
     fr_json j;
     fr_json_begin(&j, af.fp);
@@ -100,7 +100,7 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
     fr_json_string(&j, "frig", FRIG_VERSION_STRING);
     fr_json_object(&j, "summary");
     fr_json_int(&j, "photos", (long long)set->count);
-    for (int k = 0; k <= FRIG_PHOTO_FIT_FAILED; k++)
+    for (int k = 0; k <= FRIG_PHOTO_DUPLICATE; k++)
         if (counts[k]) fr_json_int(&j, frig_photo_status_name((frig_photo_status)k), (long long)counts[k]);
     fr_json_end(&j);
     if (set->n_identity || set->n_expressions) {
@@ -230,8 +230,8 @@ static frig_status read_photo(reader *r, frig_photoset *set, const cJSON *jp) {
     if (!file) return bad(r, "no \"file\"");
     int status = lookup_name(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jp, "status")),
                              (const char *const[]){"pending", "ok", "unreadable", "no_face", "face_too_small",
-                                                   "outlier", "fit_failed"},
-                             7);
+                                                   "outlier", "fit_failed", "duplicate"},
+                             8);
     if (status < 0) return bad(r, "unknown \"status\"");
     size_t idx;
     frig_status s = frig_photoset_add(r->ctx, set, file, &idx);
