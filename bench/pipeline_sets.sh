@@ -12,7 +12,7 @@ F="$build/frig"
 margs=()
 [ -n "$model" ] && margs=(--model "$model")
 mkdir -p "$work"
-printf "%-36s %6s %6s %8s %8s %6s %8s %7s %9s %7s %7s %7s\n" set photos ok no_face unread outlier fitted fitfail \
+printf "%-36s %6s %6s %8s %8s %6s %6s %8s %7s %9s %7s %7s %7s\n" set photos ok no_face unread dup outlier fitted fitfail \
   "err px" detect filter fit
 for dir in "$shared"/photos/*/; do
   name=$(basename "$dir")
@@ -34,8 +34,8 @@ fitted = [p for p in ph if "fit" in p]
 errs = sorted(p["fit"]["reprojection_error_px"] for p in fitted)
 med = errs[len(errs) // 2] if errs else float("nan")
 t0, t1, t2, t3 = map(float, sys.argv[3:7])
-print("%-36s %6d %6d %8d %8d %6d %8d %7d %9.2f %6.1fs %6.1fs %6.1fs" % (sys.argv[2], len(ph), count("ok"),
-      count("no_face") + count("face_too_small"), count("unreadable"), count("outlier"), len(fitted),
+print("%-36s %6d %6d %8d %8d %6d %6d %8d %7d %9.2f %6.1fs %6.1fs %6.1fs" % (sys.argv[2], len(ph), count("ok"),
+      count("no_face") + count("face_too_small"), count("unreadable"), count("duplicate"), count("outlier"), len(fitted),
       count("fit_failed"), med, t1 - t0, t2 - t1, t3 - t2))
 PY
 done

@@ -48,6 +48,14 @@ read n caught own checked reasons <<< "$result"
 check '[ "$caught" = "$n" ] && [ "$n" = 2 ]'
 check '[ "$own" -le 3 ]'
 check '[ "$checked" = 32 ] && [ "$reasons" = 1 ]'
+# A rerun judges every photo again, dropped ones included: the same options give the same
+# report, byte for byte; omega 100 keeps every photo.
+cp "$tmp/ws/report.json" "$tmp/first.json"
+"$F" --quiet filter -w "$tmp/ws"; check '[ $? = 0 ]'
+check 'cmp -s "$tmp/ws/report.json" "$tmp/first.json"'
+"$F" --quiet --set filter.omega=100 filter -w "$tmp/ws"; check '[ $? = 0 ]'
+check '! grep -q "\"outlier\"" "$tmp/ws/report.json"'
+"$F" --quiet filter -w "$tmp/ws"; check 'cmp -s "$tmp/ws/report.json" "$tmp/first.json"'
 
 # Two photos: too few to tell outliers; both kept, a warning.
 for f in $(ls "$video"/*.jpg | head -2); do ln -s "$f" "$tmp/two/"; done

@@ -167,6 +167,8 @@ static frig_status record(stage *st, const fr_filter_result *res, const fr_filte
                      "shape %.2f",
                      r->round_dropped, r->error, opt->w_texture, r->texture_error, opt->w_shape, r->shape_error);
             s = frig_photoset_set_status(st->ctx, st->set, st->e[a].photo, FRIG_PHOTO_OUTLIER, why);
+        } else if (!s && st->set->photos[st->e[a].photo].status != FRIG_PHOTO_OK) {
+            s = frig_photoset_set_status(st->ctx, st->set, st->e[a].photo, FRIG_PHOTO_OK, NULL);
         }
     }
     return s;
@@ -202,7 +204,11 @@ frig_status frig_filter(frig_ctx *ctx, frig_photoset *set, const char *contact_s
     if (!s) s = fr_face_warp_create(ctx, fr_param_int(ctx, FRIG_PARAM_FILTER_TEXTURE_SIZE), &st.warp);
     if (!s) st.texels = fr_face_warp_texels(st.warp);
     for (size_t i = 0; !s && i < set->count; i++) {
-        const fr_face *f = set->photos[i].status == FRIG_PHOTO_OK ? fr_photo_subject(&set->photos[i]) : NULL;
+        /* Photos a previous run dropped are judged again, so that a rerun with other options
+         * (or after frig fit) starts from what detect found. */
+        frig_photo_status ps = set->photos[i].status;
+        int usable = ps == FRIG_PHOTO_OK || ps == FRIG_PHOTO_OUTLIER || ps == FRIG_PHOTO_FIT_FAILED;
+        const fr_face *f = usable ? fr_photo_subject(&set->photos[i]) : NULL;
         if (!f) continue;
         entry *e = &st.e[st.n++];
         e->photo = i;

@@ -26,7 +26,9 @@ static int collect_usable(const frig_photoset *set, usable *u) {
     int n = 0;
     for (size_t i = 0; i < set->count; i++) {
         const fr_photo *p = &set->photos[i];
-        const fr_face *f = p->status == FRIG_PHOTO_OK ? fr_photo_subject(p) : NULL;
+        /* A photo a previous fit failed on is tried again (the options may have changed). */
+        int again = p->status == FRIG_PHOTO_OK || p->status == FRIG_PHOTO_FIT_FAILED;
+        const fr_face *f = again ? fr_photo_subject(p) : NULL;
         if (!f) continue;
         u[n].photo = i;
         memcpy(u[n].landmarks, f->landmarks, sizeof u[n].landmarks);
@@ -109,6 +111,8 @@ static frig_status record(frig_ctx *ctx, frig_photoset *set, const fr_fit_model 
             snprintf(why, sizeof why, "landmark fit error %.1f px is over %.0f%% of the eye distance (%.1f px)",
                      r->rms_px, 100 * FIT_FAILED_RMS_PER_EYE_DISTANCE, eyes);
             s = frig_photoset_set_status(ctx, set, u[a].photo, FRIG_PHOTO_FIT_FAILED, why);
+        } else if (!s && set->photos[u[a].photo].status == FRIG_PHOTO_FIT_FAILED) {
+            s = frig_photoset_set_status(ctx, set, u[a].photo, FRIG_PHOTO_OK, NULL);
         }
     }
     return s;
