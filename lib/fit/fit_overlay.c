@@ -87,8 +87,13 @@ static frig_status draw_one(frig_ctx *ctx, const frig_model *m, const frig_photo
             fr_draw_disc(img, uv[0], uv[1], rad * 0.8, red, 1);
         }
         char label[96];
-        snprintf(label, sizeof label, "%s %.1fpx", p->fit_in_joint ? "joint" : "", p->fit_error_px);
-        int scale = img->width >= 600 ? 3 : img->width >= 300 ? 2 : 1;
+        snprintf(label, sizeof label, "%.1f px RMS%s", p->fit_error_px, p->fit_in_joint ? ", joint subset" : "");
+        /* Readable on a 250 px LFW crop and on a 1600 px photo alike. */
+        int side = img->width > img->height ? img->width : img->height;
+        int scale = (int)fmax(1.0, round(side / 320.0)), tw, th;
+        fr_text_size(label, scale, &tw, &th);
+        static const uint8_t black[3] = {0, 0, 0};
+        if (!s) fr_fill_rect(img, 0, 0, 4 + tw + 2 * scale, 4 + th + 2 * scale, black, 0.6);
         if (!s) fr_draw_text(img, 4, 4, label, scale, white);
     }
     if (!s) {
