@@ -7,6 +7,7 @@
 typedef struct cli_env {
     frig_ctx *ctx;
     int quiet;
+    int verbose;
     int progress_shown;
 } cli_env;
 

@@ -1,5 +1,5 @@
 /* frig: the command line. One subcommand per stage, reading and writing a workspace
- * folder; global options (--threads, --quiet, --set NAME=VALUE) go anywhere. */
+ * folder; global options (--threads, --quiet, --verbose, --set NAME=VALUE) go anywhere. */
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -21,12 +21,13 @@ static const cli_command commands[] = {
 #define N_COMMANDS (sizeof commands / sizeof commands[0])
 
 static const char global_usage[] =
-    "usage: frig [--threads N] [--quiet] [--set NAME=VALUE]... COMMAND [ARGS]\n"
+    "usage: frig [--threads N] [--quiet | --verbose] [--set NAME=VALUE]... COMMAND [ARGS]\n"
     "       frig --version | help [COMMAND | params]\n"
     "\n"
     "Global options:\n"
     "  --threads N        worker threads (0 = one per core; results do not depend on it)\n"
     "  --quiet            no progress bar and no notes, only errors\n"
+    "  --verbose          also the stages' working notes (rounds, ranks, thresholds)\n"
     "  --set NAME=VALUE   set a parameter (frig help params lists them)\n";
 
 int cli_usage_error(const char *cmd, const char *fmt, ...) {
@@ -138,6 +139,8 @@ int main(int argc, char **argv) {
             version = 1;
         } else if (strcmp(a, "--quiet") == 0 || strcmp(a, "-q") == 0) {
             env.quiet = 1;
+        } else if (strcmp(a, "--verbose") == 0 || strcmp(a, "-v") == 0) {
+            env.verbose = 1;
         } else if (strcmp(a, "--threads") == 0 || strcmp(a, "-j") == 0) {
             char *end;
             long t = i + 1 < argc ? strtol(argv[i + 1], &end, 10) : -1;
@@ -169,7 +172,8 @@ int main(int argc, char **argv) {
                 fputs(c->usage, stdout);
             } else {
                 if (!env.quiet && isatty(2)) frig_ctx_set_progress(env.ctx, progress_bar, &env);
-                frig_ctx_set_log(env.ctx, log_line, &env, env.quiet ? FRIG_LOG_ERROR : FRIG_LOG_WARNING);
+                frig_ctx_set_log(env.ctx, log_line, &env,
+                                 env.quiet ? FRIG_LOG_ERROR : env.verbose ? FRIG_LOG_DEBUG : FRIG_LOG_WARNING);
                 rc = c->run(&env, nrest - 1, rest + 1);
             }
         }
