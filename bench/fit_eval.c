@@ -13,6 +13,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "bench_param.h"
 #include "core/context.h"
 #include "eval/shape_error.h"
 #include "fit/photo_consistency.h"
@@ -97,19 +98,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--detected")) detected = 1;
         else if (!strcmp(argv[i], "--exact")) exact = 1;
         else if (!strcmp(argv[i], "--set") && i + 1 < argc) {
-            /* NAME=VALUE: any parameter (frig help params) */
-            char name[128];
-            const char *eq = strchr(argv[++i], '=');
-            frig_param prm;
-            if (!eq || (size_t)(eq - argv[i]) >= sizeof name) return 2;
-            memcpy(name, argv[i], (size_t)(eq - argv[i]));
-            name[eq - argv[i]] = 0;
-            if (frig_param_lookup(ctx, name, &prm) || frig_ctx_set_param(ctx, prm, atof(eq + 1))) {
-                fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
-                return 2;
-            }
-        }
-        else {
+            if (bench_set_param(ctx, argv[++i])) return 2;
+        } else {
             fprintf(stderr, "unknown option %s\n", argv[i]);
             return 2;
         }

@@ -14,6 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_param.h"
 #include "core/context.h"
 #include "eval/shape_error.h"
 #include "fit/photo_consistency.h"
@@ -136,16 +137,7 @@ int main(int argc, char **argv) {
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) {
             frig_ctx_set_threads(ctx, atoi(argv[++i]));
         } else if (!strcmp(argv[i], "--set") && i + 1 < argc) {
-            char name[64];
-            const char *eq = strchr(argv[++i], '=');
-            if (!eq || (size_t)(eq - argv[i]) >= sizeof name) return 2;
-            memcpy(name, argv[i], (size_t)(eq - argv[i]));
-            name[eq - argv[i]] = 0;
-            frig_param p;
-            if (frig_param_lookup(ctx, name, &p) || frig_ctx_set_param(ctx, p, atof(eq + 1))) {
-                fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
-                return 2;
-            }
+            if (bench_set_param(ctx, argv[++i])) return 2;
         } else {
             fprintf(stderr, "unknown option %s\n", argv[i]);
             return 2;
