@@ -76,6 +76,28 @@ static void test_planted(frig_ctx *ctx) {
     CHECK(early);
     CHECK(false_drops <= 2);
     CHECK(rounds >= 2 && rounds <= opt.max_rounds);
+    /* filter.score_all: the same planted photos, judged each round against all photos' spread;
+     * the final model's errors are those recorded for every photo, dropped or not. */
+    {
+        fr_filter_options all = opt;
+        all.score_all = 1;
+        fr_filter_result r2[N], s2[N];
+        fr_filter_model m2;
+        int rounds2 = 0, found2 = 0, false2 = 0;
+        CHECK(fr_failure_detection(ctx, N, P, tex, shapes, &all, r2, &rounds2, &m2) == FRIG_OK);
+        for (int i = 0; i < N; i++) {
+            int bad = i < BAD_TEX + BAD_SHAPE;
+            found2 += bad && r2[i].round_dropped > 0;
+            false2 += !bad && r2[i].round_dropped > 0;
+        }
+        printf("score_all: %d rounds, %d of %d planted dropped, %d good dropped\n", rounds2, found2,
+               BAD_TEX + BAD_SHAPE, false2);
+        CHECK(found2 == BAD_TEX + BAD_SHAPE);
+        CHECK(false2 <= false_drops);
+        CHECK(fr_filter_score(ctx, &m2, N, tex, shapes, s2) == FRIG_OK);
+        for (int i = 0; i < N; i++) CHECK_NEAR(s2[i].error, r2[i].error, 1e-9);
+        fr_filter_model_free(&m2);
+    }
     /* The texture outliers have large texture errors, the shape outliers large shape errors. */
     for (int i = 0; i < BAD_TEX; i++) CHECK(res[i].texture_error > 3 * res[N - 1].texture_error);
     for (int i = BAD_TEX; i < BAD_TEX + BAD_SHAPE; i++) CHECK(res[i].shape_error > 3 * res[N - 1].shape_error);

@@ -129,6 +129,7 @@ typedef enum frig_param {
     FRIG_PARAM_FILTER_TEXTURE_SIZE = 304,   /* side of the warped texture (default 64) */
     FRIG_PARAM_FILTER_PCA_ENERGY = 305,     /* variance kept by the PCA models (default 0.98) */
     FRIG_PARAM_FILTER_ROBUST_STATS = 306,   /* 1: mu, sigma = median, 1.4826 MAD; 0: mean, std (default 1) */
+    FRIG_PARAM_FILTER_SCORE_ALL = 307,      /* 1: each round judges every photo against all photos' spread (default 0) */
 
     /* fit (sections 4.3-4.4, Algorithm 2) */
     FRIG_PARAM_FIT_W_EXP = 400,             /* expression prior (default 10) */

@@ -43,6 +43,9 @@ static const param_row rows[] = {
     {FRIG_PARAM_FILTER_TEXTURE_SIZE, "filter.texture_size", 64, 16, 512, 1, "side of the warped face texture"},
     {FRIG_PARAM_FILTER_PCA_ENERGY, "filter.pca_energy", 0.98, 0.5, 1.0, 0,
      "share of variance kept by the shape and texture PCA models"},
+    {FRIG_PARAM_FILTER_SCORE_ALL, "filter.score_all", 0, 0, 1, 1,
+     "1: each round's model of the inliers scores every photo, centre and spread over all of them, so a small set "
+     "is not peeled round after round and a dropped photo can return; 0: Algorithm 1 as printed"},
     {FRIG_PARAM_FILTER_ROBUST_STATS, "filter.robust_stats", 1, 0, 1, 1,
      "1: mu and sigma are the median and 1.4826 x MAD of the errors; 0: their mean and standard deviation"},
 

@@ -18,6 +18,7 @@ void fr_filter_options_from_ctx(const frig_ctx *ctx, fr_filter_options *o) {
     o->pca_energy = fr_param(ctx, FRIG_PARAM_FILTER_PCA_ENERGY);
     o->max_rounds = fr_param_int(ctx, FRIG_PARAM_FILTER_MAX_ROUNDS);
     o->robust = 1;
+    o->score_all = fr_param_int(ctx, FRIG_PARAM_FILTER_SCORE_ALL);
     o->statistic = fr_param_int(ctx, FRIG_PARAM_FILTER_ROBUST_STATS) ? FR_FILTER_MEDIAN_MAD : FR_FILTER_MEAN_STD;
     fr_rpca_default_options(&o->rpca);
     /* The errors move by less than the tolerance (measured: 8e-6 at 1e-5, against errors of 0.3 and
@@ -191,6 +192,71 @@ static void error_statistics(int n, const fr_filter_result *res, fr_filter_stati
     free(e);
 }
 
+static void log_round(frig_ctx *ctx, int round, int n, const fr_filter_result *res, double mu, double sigma,
+                      int dropped) {
+    double mt = 0, ms = 0;
+    for (int j = 0; j < n; j++) mt += res[j].texture_error / n, ms += res[j].shape_error / n;
+    fr_log(ctx, FRIG_LOG_INFO,
+           "filter round %d: %d faces scored, mean errors %.4g (texture) %.4g (shape), e centre %.4g spread %.4g, "
+           "above the limit %d",
+           round, n, mt, ms, mu, sigma, dropped);
+}
+
+/* Algorithm 1 as printed: the model scores the current inliers (idx[0..*n-1]), and those above
+ * the limit of their own errors leave. Returns whether any left. */
+static int judge_inliers(frig_ctx *ctx, const fr_filter_model *m, int texels, const double *textures,
+                         const double *shapes, const fr_filter_options *opt, int round, int *idx, int *n,
+                         fr_filter_result *res, fr_filter_result *results, frig_status *st) {
+    if ((*st = score_listed(ctx, m, *n, idx, texels, textures, shapes, res)) != FRIG_OK) return 0;
+    double mu, sigma;
+    error_statistics(*n, res, opt->statistic, &mu, &sigma);
+    double limit = mu + opt->omega * sigma;
+    int kept = 0;
+    for (int j = 0; j < *n; j++) {
+        results[idx[j]] = res[j];
+        if (res[j].error > limit)
+            results[idx[j]].round_dropped = round;
+        else
+            idx[kept++] = idx[j];
+    }
+    log_round(ctx, round, *n, res, mu, sigma, *n - kept);
+    int changed = kept != *n;
+    *n = kept;
+    return changed;
+}
+
+/* filter.score_all: the model of the current inliers scores all count photos; centre and spread
+ * are those of all the errors, so the sample behind the limit does not shrink round after round,
+ * and a photo the refined model explains comes back. Returns whether the inlier set changed. */
+static int judge_all(frig_ctx *ctx, const fr_filter_model *m, int count, int texels, const double *textures,
+                     const double *shapes, const fr_filter_options *opt, int round, int *idx, int *n,
+                     fr_filter_result *res, fr_filter_result *results, frig_status *st) {
+    int *all = malloc(sizeof(int) * (size_t)count);
+    if (!all) {
+        *st = fr_nomem(ctx, "failure detection");
+        return 0;
+    }
+    for (int i = 0; i < count; i++) all[i] = i;
+    *st = score_listed(ctx, m, count, all, texels, textures, shapes, res);
+    free(all);
+    if (*st != FRIG_OK) return 0;
+    double mu, sigma;
+    error_statistics(count, res, opt->statistic, &mu, &sigma);
+    double limit = mu + opt->omega * sigma;
+    int kept = 0, changed = 0;
+    for (int i = 0; i < count; i++) {
+        int dropped_before = results[i].round_dropped;
+        results[i] = res[i];
+        int out = res[i].error > limit;
+        results[i].round_dropped = out ? (dropped_before ? dropped_before : round) : 0;
+        changed |= out != (dropped_before != 0);
+        if (!out) idx[kept++] = i;
+    }
+    log_round(ctx, round, count, res, mu, sigma, count - kept);
+    *n = kept;
+    return changed;
+}
+
 frig_status fr_failure_detection(frig_ctx *ctx, int count, int texels, const double *textures, const double *shapes,
                                  const fr_filter_options *opt, fr_filter_result *results, int *rounds,
                                  fr_filter_model *model) {
@@ -222,35 +288,20 @@ frig_status fr_failure_detection(frig_ctx *ctx, int count, int texels, const dou
     frig_status st = FRIG_OK;
     fr_filter_model m;
     memset(&m, 0, sizeof m);
-    int settled = 0; /* the last round dropped nothing: m is the model of the final inliers */
+    int settled = 0; /* the last round changed nothing: m is the model of the final inliers */
     while (round < opt->max_rounds && n >= 3) {
         round++;
         int ranks[2];
         if ((st = build_models(ctx, n, idx, texels, textures, shapes, opt, &m, ranks)) != FRIG_OK) break;
-        st = score_listed(ctx, &m, n, idx, texels, textures, shapes, res);
-        int ks[2] = {m.texture.k, m.shape.k};
+        int changed = opt->score_all ? judge_all(ctx, &m, count, texels, textures, shapes, opt, round, idx, &n, res,
+                                                 results, &st)
+                                     : judge_inliers(ctx, &m, texels, textures, shapes, opt, round, idx, &n, res,
+                                                     results, &st);
         if (st != FRIG_OK) break;
-        double mu, sigma;
-        error_statistics(n, res, opt->statistic, &mu, &sigma);
-        double limit = mu + opt->omega * sigma;
-        int kept = 0;
-        for (int j = 0; j < n; j++) {
-            results[idx[j]] = res[j];
-            if (res[j].error > limit)
-                results[idx[j]].round_dropped = round;
-            else
-                idx[kept++] = idx[j];
-        }
-        double mt = 0, ms = 0;
-        for (int j = 0; j < n; j++) mt += res[j].texture_error / n, ms += res[j].shape_error / n;
-        fr_log(ctx, FRIG_LOG_INFO,
-               "filter round %d: %d faces, robust PCA ranks %d (texture) %d (shape), PCA components %d (texture) %d "
-               "(shape), mean errors %.4g (texture) %.4g (shape), e centre %.4g spread %.4g, dropped %d",
-               round, n, ranks[0], ranks[1], ks[0], ks[1], mt, ms, mu, sigma, n - kept);
+        fr_log(ctx, FRIG_LOG_INFO, "filter round %d: robust PCA ranks %d (texture) %d (shape), PCA components %d "
+               "(texture) %d (shape); %d inliers", round, ranks[0], ranks[1], m.texture.k, m.shape.k, n);
         fr_progress(ctx, "filter", (size_t)round, (size_t)opt->max_rounds);
-        int dropped = n - kept;
-        n = kept;
-        if (dropped == 0) {
+        if (!changed) {
             settled = 1;
             break;
         }
