@@ -30,15 +30,20 @@ int cmd_filter(cli_env *env, int argc, char **argv) {
         frig_photoset_free(set);
         return cli_fail(env, "filter");
     }
-    size_t n = frig_photoset_count(set), filtered = 0, dropped = 0;
+    size_t n = frig_photoset_count(set), filtered = 0, dropped = 0, usable = 0;
     for (size_t i = 0; i < n; i++) {
         int round;
+        usable += frig_photoset_status(set, i) == FRIG_PHOTO_OK;
         if (!frig_photoset_filter(set, i, NULL, NULL, NULL, &round)) continue;
         filtered++;
         dropped += round > 0;
     }
-    cli_note(env, "filter: %zu photos checked, %zu dropped as outliers, %zu kept", filtered, dropped,
-             filtered - dropped);
+    if (filtered)
+        cli_note(env, "filter: %zu photos checked, %zu dropped as outliers, %zu kept", filtered, dropped,
+                 filtered - dropped);
+    else
+        cli_note(env, "filter: %zu usable photo%s kept unchecked (too few to tell outliers)", usable,
+                 usable == 1 ? "" : "s");
     frig_photoset_free(set);
     return CLI_OK;
 }

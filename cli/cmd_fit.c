@@ -68,8 +68,8 @@ int cmd_fit(cli_env *env, int argc, char **argv) {
         joint += frig_photoset_fit_in_joint(set, i);
         sum += frig_photoset_fit_error(set, i);
     }
-    cli_note(env, "fitted %zu photos (%zu in the final joint subset, %zu failed); mean landmark error %.2f px", fitted,
-             joint, failed, fitted ? sum / fitted : 0.0);
+    cli_note(env, "fitted %zu photo%s (%zu in the final joint subset, %zu failed); mean landmark error %.2f px",
+             fitted, fitted == 1 ? "" : "s", joint, failed, fitted ? sum / fitted : 0.0);
 done:
     frig_rig_free(rig);
     frig_photoset_free(set);
