@@ -261,7 +261,7 @@ static int end_to_end(frig_ctx *ctx, const frig_detector *det, const lm_face *re
         size_t n = 0;
         if (fr_gray_like_opencv(ctx, rgb, &gray) || fr_gray_like_dlib(ctx, rgb, &dgray)) return 1;
         double t0 = now();
-        if (fr_detect_cascade_boxes(ctx, det, gray, FR_DETECT_RUN_FRONTAL, &v, &n)) return 1;
+        if (fr_detect_frontal(ctx, det, gray, &v, &n)) return 1; /* as the stage: coarse, then fine */
         t_frontal += now() - t0;
         int fell_back = 0;
         if (n == 0 && det->profile_fallback) {
@@ -278,7 +278,7 @@ static int end_to_end(frig_ctx *ctx, const frig_detector *det, const lm_face *re
             size_t m = 0;
             t0 = now();
             if (!frig_image_load(ctx, photos[p], FRIG_LOAD_GRAY | FRIG_LOAD_IGNORE_ORIENTATION, &cvg) &&
-                !fr_detect_cascade_boxes(ctx, det, cvg, FR_DETECT_RUN_FRONTAL, &w, &m)) {
+                !fr_detect_frontal(ctx, det, cvg, &w, &m)) {
                 size_t k = 0;
                 for (size_t i = 0; i < n && v[i].source == FRIG_FACE_FRONTAL; i++) k++;
                 int same = m == k;

@@ -317,28 +317,70 @@ static void test_no_face_and_profile(void) {
     frig_image_free(img);
 }
 
+/* A detector with the given detect.max_side and detect.coarse_side. */
+static frig_detector *detector_with(frig_ctx *c, int max_side, int coarse_side) {
+    frig_detector *d = NULL;
+    CHECK(frig_ctx_set_param(c, FRIG_PARAM_DETECT_MAX_SIDE, max_side) == FRIG_OK);
+    CHECK(frig_ctx_set_param(c, FRIG_PARAM_DETECT_COARSE_SIDE, coarse_side) == FRIG_OK);
+    CHECK(frig_detector_create(c, NULL, NULL, &d) == FRIG_OK);
+    return d;
+}
+
 /* The 1280 x 1024 photo searched on a copy of longer side 640: the same face, box within a few
- * pixels, landmarks close (they are computed at full resolution either way). */
+ * pixels, landmarks close (they are computed at full resolution either way). The stage's
+ * coarse pass (detect.coarse_side 640) finds exactly what max_side 640 finds. */
 static void test_max_side(void) {
     frig_image *img = load("photos/landmarks_300w_lfpw/lfpw_image_0010.png", 0);
-    found full, small;
+    found full, small, coarse;
     frig_ctx *c = frig_ctx_create();
-    frig_detector *d = NULL;
-    CHECK(frig_ctx_set_param(c, FRIG_PARAM_DETECT_MAX_SIDE, 640) == FRIG_OK);
-    CHECK(frig_detector_create(c, NULL, NULL, &d) == FRIG_OK);
-    CHECK(img && detect(ctx, det, img, &full) == FRIG_OK && full.n >= 1);
-    CHECK(d && img && detect(c, d, img, &small) == FRIG_OK && small.n >= 1);
+    frig_detector *d_full = detector_with(c, 1024, 0), *d_small = detector_with(c, 640, 0);
+    CHECK(d_full && img && detect(c, d_full, img, &full) == FRIG_OK && full.n >= 1);
+    CHECK(d_small && img && detect(c, d_small, img, &small) == FRIG_OK && small.n >= 1);
+    CHECK(img && detect(ctx, det, img, &coarse) == FRIG_OK && coarse.n == small.n);
+    CHECK(memcmp(coarse.boxes, small.boxes, sizeof coarse.boxes) == 0);
     if (full.n >= 1 && small.n >= 1) {
         double iou = fr_box_iou(full.boxes, small.boxes), nme = lm_nme(small.lm, full.lm);
-        printf("max_side 640 on a 1280x1024 photo: box IoU %.3f with full resolution, landmarks %.4f of the eye "
+        printf("max_side 640 on a 1280x1024 photo: box IoU %.3f with max_side 1024, landmarks %.4f of the eye "
                "distance apart\n",
                iou, nme);
         CHECK(iou >= 0.8);
         CHECK(nme <= 0.05);
     }
-    frig_detector_free(d);
+    frig_detector_free(d_full);
+    frig_detector_free(d_small);
     frig_ctx_free(c);
     frig_image_free(img);
+}
+
+/* A small face in a large photo (an LFW photo in the middle of a 2400 px gray canvas): too small
+ * for the coarse pass at 640, found by the pass at detect.max_side, as without a coarse pass. */
+static void test_coarse_miss(void) {
+    frig_image *lfw = load("photos/lfw_tony_blair/Tony_Blair_0001.jpg", 0);
+    frig_image *big = fr_image_new(2400, 2400, 3);
+    CHECK(big != NULL);
+    if (!lfw || !big) {
+        frig_image_free(lfw);
+        frig_image_free(big);
+        return;
+    }
+    memset(big->pixels, 128, big->stride * (size_t)big->height);
+    for (int y = 0; y < lfw->height; y++)
+        memcpy(big->pixels + (size_t)(1100 + y) * big->stride + 1100 * 3, lfw->pixels + (size_t)y * lfw->stride,
+               (size_t)lfw->width * 3);
+    frig_ctx *c = frig_ctx_create();
+    frig_detector *d_640 = detector_with(c, 640, 0), *d_off = detector_with(c, 1024, 0);
+    found at640, off, staged;
+    CHECK(d_640 && detect(c, d_640, big, &at640) == FRIG_OK && at640.n == 0);
+    CHECK(d_off && detect(c, d_off, big, &off) == FRIG_OK && off.n == 1);
+    CHECK(detect(ctx, det, big, &staged) == FRIG_OK && staged.n == off.n);
+    CHECK(memcmp(staged.boxes, off.boxes, sizeof staged.boxes) == 0 && memcmp(staged.lm, off.lm, sizeof staged.lm) == 0);
+    printf("a 250 px face in a 2400 px photo: %zu faces at max_side 640, %zu at 1024, %zu with the coarse pass\n",
+           at640.n, off.n, staged.n);
+    frig_detector_free(d_640);
+    frig_detector_free(d_off);
+    frig_ctx_free(c);
+    frig_image_free(lfw);
+    frig_image_free(big);
 }
 
 /* Two threads, each with its own context, detecting on different photos at once. */
@@ -564,6 +606,7 @@ int main(void) {
         test_ground_truth();
         test_no_face_and_profile();
         test_max_side();
+        test_coarse_miss();
         test_threads();
         test_photoset();
         test_exif();

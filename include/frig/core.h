@@ -120,6 +120,7 @@ typedef enum frig_param {
     FRIG_PARAM_DETECT_USER_LANDMARKS = 205, /* use PHOTO.pts / PHOTO.landmarks.json when present (default 1) */
     FRIG_PARAM_DETECT_MIN_EYE_DISTANCE = 206, /* smaller subject faces are face_too_small, pixels (default 15) */
     FRIG_PARAM_DETECT_DUPLICATES = 207,     /* 1: a photo with an earlier photo's bytes is a duplicate (default 1) */
+    FRIG_PARAM_DETECT_COARSE_SIDE = 208,    /* frontal search first on a copy this large; 0: off (default 640) */
 
     /* filter (section 4.2, Algorithm 1) */
     FRIG_PARAM_FILTER_OMEGA = 300,          /* drop e > mu + omega * sigma (default 3) */

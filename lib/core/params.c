@@ -32,6 +32,9 @@ static const param_row rows[] = {
      "1: landmarks in PHOTO.pts or PHOTO.landmarks.json beside a photo replace detection"},
     {FRIG_PARAM_DETECT_MIN_EYE_DISTANCE, "detect.min_eye_distance", 15, 0, 10000, 0,
      "a subject whose outer eye corners are closer than this (pixels) makes the photo face_too_small"},
+    {FRIG_PARAM_DETECT_COARSE_SIDE, "detect.coarse_side", 640, 0, 100000, 1,
+     "the frontal cascade first searches a copy whose longer side is at most this, and detect.max_side only when "
+     "it finds nothing (0: off)"},
     {FRIG_PARAM_DETECT_DUPLICATES, "detect.duplicates", 1, 0, 1, 1,
      "1: a photo whose file has the same bytes as an earlier one is marked duplicate (scraped sets repeat photos)"},
 

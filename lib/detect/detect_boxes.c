@@ -81,10 +81,9 @@ static frig_status run_one(frig_ctx *ctx, const frig_detector *det, const fr_cas
     return FRIG_OK;
 }
 
-frig_status fr_detect_cascade_boxes(frig_ctx *ctx, const frig_detector *det, const frig_image *gray, unsigned which,
-                                    fr_detected_face **faces, size_t *count) {
-    if (!det || !gray || gray->channels != 1 || !faces || !count)
-        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "fr_detect_cascade_boxes: bad argument");
+/* fr_detect_cascade_boxes on a copy no larger than max_side. */
+static frig_status cascade_boxes_at(frig_ctx *ctx, const frig_detector *det, const frig_image *gray, unsigned which,
+                                    int max_side, fr_detected_face **faces, size_t *count) {
     *faces = NULL;
     *count = 0;
     if ((which & (FR_DETECT_RUN_PROFILE | FR_DETECT_RUN_PROFILE_MIRRORED)) && !det->profile)
@@ -92,8 +91,8 @@ frig_status fr_detect_cascade_boxes(frig_ctx *ctx, const frig_detector *det, con
     int w = gray->width, h = gray->height, side = w > h ? w : h;
     double up[2] = {1.0, 1.0};
     uint8_t *work = NULL;
-    if (side > det->max_side) {
-        double s = (double)det->max_side / side;
+    if (side > max_side) {
+        double s = (double)max_side / side;
         int dw = (int)lround(w * s), dh = (int)lround(h * s);
         dw = dw < 1 ? 1 : dw;
         dh = dh < 1 ? 1 : dh;
@@ -125,6 +124,27 @@ frig_status fr_detect_cascade_boxes(frig_ctx *ctx, const frig_detector *det, con
         *count = 0;
     }
     return st;
+}
+
+frig_status fr_detect_cascade_boxes(frig_ctx *ctx, const frig_detector *det, const frig_image *gray, unsigned which,
+                                    fr_detected_face **faces, size_t *count) {
+    if (!det || !gray || gray->channels != 1 || !faces || !count)
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "fr_detect_cascade_boxes: bad argument");
+    return cascade_boxes_at(ctx, det, gray, which, det->max_side, faces, count);
+}
+
+frig_status fr_detect_frontal(frig_ctx *ctx, const frig_detector *det, const frig_image *gray, fr_detected_face **faces,
+                              size_t *count) {
+    if (!det || !gray || gray->channels != 1 || !faces || !count)
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "fr_detect_frontal: bad argument");
+    int side = gray->width > gray->height ? gray->width : gray->height;
+    if (det->coarse_side > 0 && det->coarse_side < det->max_side && side > det->coarse_side) {
+        frig_status st = cascade_boxes_at(ctx, det, gray, FR_DETECT_RUN_FRONTAL, det->coarse_side, faces, count);
+        if (st || *count > 0) return st;
+        free(*faces);
+        *faces = NULL;
+    }
+    return cascade_boxes_at(ctx, det, gray, FR_DETECT_RUN_FRONTAL, det->max_side, faces, count);
 }
 
 double fr_box_iou(const double a[4], const double b[4]) {
@@ -171,8 +191,10 @@ size_t fr_detect_merge(fr_detected_face *faces, size_t count) {
 
 frig_status fr_detect_boxes(frig_ctx *ctx, const frig_detector *det, const frig_image *gray, fr_detected_face **faces,
                             size_t *count) {
-    frig_status st = fr_detect_cascade_boxes(ctx, det, gray, FR_DETECT_RUN_FRONTAL, faces, count);
+    frig_status st = fr_detect_frontal(ctx, det, gray, faces, count);
     if (st || *count > 0 || !det->profile_fallback) return st;
+    free(*faces);
+    *faces = NULL;
     st = fr_detect_cascade_boxes(ctx, det, gray, FR_DETECT_RUN_PROFILE | FR_DETECT_RUN_PROFILE_MIRRORED, faces, count);
     if (!st) *count = fr_detect_merge(*faces, *count);
     return st;

@@ -70,6 +70,7 @@ frig_status frig_detector_create(frig_ctx *ctx, const char *cascade_dir, const c
     det->min_face = fr_param_int(ctx, FRIG_PARAM_DETECT_MIN_FACE);
     det->profile_fallback = fr_param_int(ctx, FRIG_PARAM_DETECT_PROFILE);
     det->max_side = fr_param_int(ctx, FRIG_PARAM_DETECT_MAX_SIDE);
+    det->coarse_side = fr_param_int(ctx, FRIG_PARAM_DETECT_COARSE_SIDE);
     frig_status st = load_cascade(ctx, dir, FR_DETECT_FRONTAL_FILE, &det->frontal);
     if (!st && det->profile_fallback) st = load_cascade(ctx, dir, FR_DETECT_PROFILE_FILE, &det->profile);
     if (!st) st = fr_shape_predictor_load(ctx, model, &det->sp);

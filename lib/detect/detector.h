@@ -19,7 +19,7 @@ struct frig_detector {
     fr_shape_predictor *sp;
     /* detect.* parameters, read at creation */
     double scale_factor;
-    int min_neighbors, min_face, profile_fallback, max_side;
+    int min_neighbors, min_face, profile_fallback, max_side, coarse_side;
 };
 
 /* A face on its way through the stage: box x, y, w, h (upright pixels; after calibration in
@@ -52,7 +52,13 @@ typedef enum fr_detect_cascades {
 frig_status fr_detect_cascade_boxes(frig_ctx *ctx, const frig_detector *det, const frig_image *gray, unsigned which,
                                     fr_detected_face **faces, size_t *count);
 
-/* The stage's boxes: the frontal cascade; when it finds nothing and detect.profile is 1, the
+/* The frontal cascade as the stage runs it: on a copy no larger than det->coarse_side first
+ * (when that is smaller than the photo and than det->max_side), then, only if that finds no
+ * face, at det->max_side. Large photos of one person are searched at a third of the cost. */
+frig_status fr_detect_frontal(frig_ctx *ctx, const frig_detector *det, const frig_image *gray, fr_detected_face **faces,
+                              size_t *count);
+
+/* The stage's boxes: fr_detect_frontal; when it finds nothing and detect.profile is 1, the
  * profile cascade on the photo and on its mirror image, merged by fr_detect_merge. */
 frig_status fr_detect_boxes(frig_ctx *ctx, const frig_detector *det, const frig_image *gray, fr_detected_face **faces,
                             size_t *count);
