@@ -56,10 +56,7 @@ static void landmark_bias_add(const double *truth, const double *det, const doub
     double yaw, pitch, roll;
     fr_rotation_to_euler(R, &yaw, &pitch, &roll);
     if (fabs(yaw) * 57.3 > 15) return;
-    double l[2] = {0, 0}, r[2] = {0, 0};
-    for (int k = 36; k < 42; k++) l[0] += truth[2 * k] / 6, l[1] += truth[2 * k + 1] / 6;
-    for (int k = 42; k < 48; k++) r[0] += truth[2 * k] / 6, r[1] += truth[2 * k + 1] / 6;
-    double eye = hypot(l[0] - r[0], l[1] - r[1]);
+    double eye = fr_fit_eye_distance(truth);
     for (int k = 0; k < 68; k++) {
         double dx = (det[2 * k] - truth[2 * k]) / eye, dy = (det[2 * k + 1] - truth[2 * k + 1]) / eye;
         bias_sum[2 * k] += dx, bias_sum[2 * k + 1] += dy;
@@ -171,10 +168,7 @@ int main(int argc, char **argv) {
                 frig_synth_truth_free(tr);
                 continue;
             } else if (ok) {
-                double l[2] = {0, 0}, rr[2] = {0, 0};
-                for (int k = 36; k < 42; k++) l[0] += q[2 * k] / 6, l[1] += q[2 * k + 1] / 6;
-                for (int k = 42; k < 48; k++) rr[0] += q[2 * k] / 6, rr[1] += q[2 * k + 1] / 6;
-                double sigma = noise / 100 * hypot(l[0] - rr[0], l[1] - rr[1]);
+                double sigma = noise / 100 * fr_fit_eye_distance(q);
                 for (int k = 0; k < 136; k++) dst[k] = q[k] + sigma * gauss(&r);
                 if (uniform(&r) < corrupt) {
                     /* A failed detection: one region (jaw, eyes or mouth) drifts by up to 15% of the face. */

@@ -64,14 +64,8 @@ static void free_half(photos *h) {
 /* Landmark RMS (px) of each held-out photo fitted with the identity fixed. */
 static void heldout_rms(frig_ctx *ctx, const fr_fit_model *fm, const fr_fit_settings *s, const photos *h,
                         const double *identity, double *rms) {
-    fr_fit_options opt = {0};
-    opt.fit_expression = 1;
-    opt.fit_focal = s->perspective;
-    opt.start = s->end;
-    opt.end = s->end;
-    if (opt.start.sparse <= 0) opt.start.sparse = opt.end.sparse = 1e-12;
-    opt.iterations = s->iterations;
-    opt.contour_every = 5;
+    fr_fit_options opt; /* as the final fits of Algorithm 2 */
+    fr_fit_options_make(s, 0, NULL, s->end, s->end, s->iterations, &opt);
     double *w = calloc((size_t)fm->n_cols, sizeof(double));
     for (int i = 0; i < h->n; i++) {
         memcpy(w, identity, sizeof(double) * (size_t)fm->n_id);
@@ -82,11 +76,7 @@ static void heldout_rms(frig_ctx *ctx, const fr_fit_model *fm, const fr_fit_sett
         fr_fit_photo_run(ctx, fm, &p, &opt);
         /* In % of the eye distance (between the eye centres, as bench/pipeline_sets.sh), so that
          * photos of every size count alike. */
-        const double *q = h->in[i].landmarks;
-        double l[2] = {0, 0}, r[2] = {0, 0};
-        for (int k = 36; k < 42; k++) l[0] += q[2 * k] / 6, l[1] += q[2 * k + 1] / 6;
-        for (int k = 42; k < 48; k++) r[0] += q[2 * k] / 6, r[1] += q[2 * k + 1] / 6;
-        rms[i] = 100 * p.rms_px / fmax(hypot(l[0] - r[0], l[1] - r[1]), 1);
+        rms[i] = 100 * p.rms_px / fmax(fr_fit_eye_distance(h->in[i].landmarks), 1);
     }
     free(w);
 }

@@ -100,12 +100,7 @@ static frig_status record(frig_ctx *ctx, frig_photoset *set, const fr_fit_model 
         const fr_fit_result *r = &res[a];
         s = fr_photoset_set_fit(ctx, set, u[a].photo, r->R, r->t, r->f, r->perspective, r->w + fm->n_id, r->rms_px,
                                 r->in_joint);
-        double eyes = 0;
-        const double *q = u[a].landmarks;
-        double l[2] = {0, 0}, rr[2] = {0, 0};
-        for (int k = 36; k < 42; k++) l[0] += q[2 * k] / 6, l[1] += q[2 * k + 1] / 6;
-        for (int k = 42; k < 48; k++) rr[0] += q[2 * k] / 6, rr[1] += q[2 * k + 1] / 6;
-        eyes = hypot(l[0] - rr[0], l[1] - rr[1]);
+        double eyes = fr_fit_eye_distance(u[a].landmarks);
         if (!s && !(r->rms_px <= FIT_FAILED_RMS_PER_EYE_DISTANCE * eyes)) {
             char why[160];
             snprintf(why, sizeof why, "landmark fit error %.1f px is over %.0f%% of the eye distance (%.1f px)",

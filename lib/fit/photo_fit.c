@@ -64,7 +64,7 @@ void fr_fit_photo_project(const fr_fit_photo *p, const double *X, int n, double 
 
 /* ---- set-up ---- */
 
-static double eye_distance(const double *q) {
+double fr_fit_eye_distance(const double *q) {
     double l[2] = {0, 0}, r[2] = {0, 0};
     for (int k = 36; k < 42; k++) l[0] += q[2 * k] / 6, l[1] += q[2 * k + 1] / 6;
     for (int k = 42; k < 48; k++) r[0] += q[2 * k] / 6, r[1] += q[2 * k + 1] / 6;
@@ -81,7 +81,7 @@ static double residual_unit(const double *q) {
         if (q[2 * k + 1] < ymin) ymin = q[2 * k + 1];
         if (q[2 * k + 1] > ymax) ymax = q[2 * k + 1];
     }
-    double d = fmax(eye_distance(q), 0.5 * (ymax - ymin));
+    double d = fmax(fr_fit_eye_distance(q), 0.5 * (ymax - ymin));
     return fmax(d, 1.0) / 50.0;
 }
 

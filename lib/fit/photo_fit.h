@@ -41,6 +41,9 @@ typedef struct fr_fit_options {
     int contour_every;             /* re-pick the jaw correspondences every this many iterations */
 } fr_fit_options;
 
+/* Distance between the eye centres (means of landmarks 36-41 and 42-47), pixels. */
+double fr_fit_eye_distance(const double *landmarks);
+
 /* Set up a photo: landmarks (136 values), image size; w must hold n_cols values (owned by
  * the caller). Camera and pose are initialized from the landmarks (affine fit of the
  * current shape), correspondences to the default landmark vertices. */

@@ -61,21 +61,27 @@ static fr_fit_weights avoid_zero(fr_fit_weights w) {
     return w;
 }
 
+void fr_fit_options_make(const fr_fit_settings *s, int fit_identity, const double *id_prior, fr_fit_weights start,
+                         fr_fit_weights end, int iterations, fr_fit_options *opt) {
+    memset(opt, 0, sizeof *opt);
+    opt->fit_identity = fit_identity;
+    opt->fit_expression = 1;
+    opt->fit_focal = s->perspective;
+    opt->id_prior = id_prior;
+    opt->start = avoid_zero(start);
+    opt->end = avoid_zero(end);
+    opt->iterations = iterations;
+    opt->contour_every = 5;
+}
+
 /* Individual fits of the photos in 'which' (all when NULL), each starting from id_init with
  * prior id_prior; fit_identity 0 keeps the identity fixed at id_init. */
 static frig_status fit_photos(run *r, const int *which, int count, const double *id_init, const double *id_prior,
                               int fit_identity, int iterations, fr_fit_weights start, fr_fit_weights end,
                               int reinit, const char *stage) {
     const fr_fit_model *fm = r->fm;
-    fr_fit_options opt = {0};
-    opt.fit_identity = fit_identity;
-    opt.fit_expression = 1;
-    opt.fit_focal = r->s->perspective;
-    opt.id_prior = id_prior;
-    opt.start = avoid_zero(start);
-    opt.end = avoid_zero(end);
-    opt.iterations = iterations;
-    opt.contour_every = 5;
+    fr_fit_options opt;
+    fr_fit_options_make(r->s, fit_identity, id_prior, start, end, iterations, &opt);
     atomic_store(&r->done, 0);
     int err = 0;
     int saved = fr_blas_serial_begin();

@@ -45,6 +45,12 @@ typedef struct fr_fit_settings {
     int threads;
 } fr_fit_settings;
 
+/* The options of one photo fit under these settings: expression always, identity when
+ * fit_identity (with the prior id_prior, NULL = the model mean), focal length with a
+ * perspective camera, jaw correspondences re-picked every 5 iterations. */
+void fr_fit_options_make(const fr_fit_settings *s, int fit_identity, const double *id_prior, fr_fit_weights start,
+                         fr_fit_weights end, int iterations, fr_fit_options *opt);
+
 /* Defaults from the paper and the context's fit.* parameters. */
 void fr_fit_settings_from_ctx(const frig_ctx *ctx, fr_fit_settings *s);
 
