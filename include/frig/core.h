@@ -152,7 +152,15 @@ typedef enum frig_param {
     FRIG_PARAM_SYNTH_OFFSET_MM = 501,       /* personal displacement amplitude, mm (default 4) */
     FRIG_PARAM_SYNTH_FAILURE_RATE = 502,    /* share of intended failures (default 0.1) */
     FRIG_PARAM_SYNTH_IMAGE_SIZE = 503,      /* photo side in pixels (default 512) */
-    FRIG_PARAM_SYNTH_RIG_OBJ = 504          /* 1: also write each true rig as OBJ files (default 1) */
+    FRIG_PARAM_SYNTH_RIG_OBJ = 504,         /* 1: also write each true rig as OBJ files (default 1) */
+
+    /* frig run: the whole pipeline (docs/run.md) */
+    FRIG_PARAM_RUN_VIDEO_FRAMES = 900,      /* frames sampled from each video, evenly spread (default 100) */
+    FRIG_PARAM_RUN_MIN_PHOTOS = 901,        /* fewer usable photos stop the run (default 5) */
+
+    /* export: glTF and OBJ files of a rig */
+    FRIG_PARAM_EXPORT_EYE_OVERLAYS = 950,   /* 1: ICT's translucent eye overlays alpha-blended; 0: left out (default 1) */
+    FRIG_PARAM_EXPORT_TEXTURE_SIZE = 951    /* side of the painted eye textures; 0: flat colours (default 512) */
 } frig_param;
 
 FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);
