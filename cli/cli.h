@@ -79,5 +79,7 @@ int cmd_export(cli_env *env, int argc, char **argv);
 extern const char cmd_export_usage[];
 int cmd_synth(cli_env *env, int argc, char **argv);
 extern const char cmd_synth_usage[];
+int cmd_run(cli_env *env, int argc, char **argv);
+extern const char cmd_run_usage[];
 
 #endif

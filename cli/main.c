@@ -9,6 +9,8 @@
 #include "cli.h"
 
 static const cli_command commands[] = {
+    {"run", cmd_run, "the whole pipeline: photos or videos in, rig.glb and report.html out (resumable)",
+     cmd_run_usage},
     {"info", cmd_info, "describe images as libfrig reads them", cmd_info_usage},
     {"detect", cmd_detect, "find faces and 68 landmarks in photos, write report.json and overlays",
      cmd_detect_usage},

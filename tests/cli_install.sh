@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Install to a temporary prefix and build the example against the installed library, both
-# through pkg-config and through CMake's find_package; run it. Also: only frig_ symbols
+# Install to a temporary prefix and build the examples against the installed library, both
+# through pkg-config and through CMake's find_package; run them. Also: only frig_ symbols
 # are exported, and the SONAME is libfrig.so.0.
 set -eu
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_install"; rm -rf "$tmp"; mkdir -p "$tmp"
@@ -32,6 +32,19 @@ if [ -f "$photo" ] && [ -f /usr/share/dlib/shape_predictor_68_face_landmarks.dat
    [ -f /usr/share/opencv4/haarcascades/haarcascade_frontalface_alt2.xml ]; then
   LD_LIBRARY_PATH="$libdir" "$tmp/detect_faces" "$photo" > "$tmp/faces"
   grep -q "Tony_Blair_0001.jpg: 1 face$" "$tmp/faces" || { cat "$tmp/faces"; exit 1; }
+fi
+
+# The pipeline one stage at a time through the public API (examples/stage_by_stage.c): built
+# against the installed library; run on five shared photos (LFW's 0001-0006, 0004 not among them) when the model and data are there.
+cc -std=c11 -Wall -Wextra -Werror $extra -o "$tmp/stage_by_stage" "$FRIG_SOURCE_DIR/examples/stage_by_stage.c" \
+  $(pkg-config --cflags --libs frig)
+. "$FRIG_SOURCE_DIR/tests/scripts/model_fixture.sh"
+if [ -f "$photo" ] && [ -f /usr/share/dlib/shape_predictor_68_face_landmarks.dat ] && frig_test_model; then
+  sets=$(dirname "$photo")
+  LD_LIBRARY_PATH="$libdir" "$tmp/stage_by_stage" "$FRIG_TEST_MODEL" "$tmp/sbs" "$sets"/Tony_Blair_000[1-6].jpg > "$tmp/sbs.out"
+  cat "$tmp/sbs.out"
+  grep -q "^detect: 5 photos, 5 with a usable face$" "$tmp/sbs.out" && grep -q "^export: .*rig.glb and .*shapes/ (55 blendshapes)$" "$tmp/sbs.out" &&
+    [ -s "$tmp/sbs/rig.glb" ] || { echo "stage_by_stage did not run through"; exit 1; }
 fi
 
 cmake -S "$FRIG_SOURCE_DIR/examples" -B "$tmp/cmake-build" -DCMAKE_PREFIX_PATH="$prefix" \

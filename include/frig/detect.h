@@ -56,6 +56,16 @@ FRIG_API frig_status frig_detect_landmarks(frig_ctx *ctx, const frig_detector *d
  * A bad photo only gets its status: the call fails only when out of memory or cancelled. */
 FRIG_API frig_status frig_detect_photoset(frig_ctx *ctx, const frig_detector *det, frig_photoset *set);
 
+/* run: detection in batches, for callers that save progress between them (frig run resumes
+ * an interrupted detect at its first pending photo). frig_detect_photoset is
+ * frig_detect_photoset_range over every photo, then frig_detect_mark_duplicates when
+ * detect.duplicates is 1; a photo's result does not depend on the batches. */
+FRIG_API frig_status frig_detect_photoset_range(frig_ctx *ctx, const frig_detector *det, frig_photoset *set,
+                                                size_t first, size_t count);
+/* Mark every usable photo whose file has the same bytes as an earlier usable photo of the set
+ * FRIG_PHOTO_DUPLICATE, the reason naming the first copy. */
+FRIG_API frig_status frig_detect_mark_duplicates(frig_ctx *ctx, frig_photoset *set);
+
 /* One JPEG per photo in dir (created if needed), named NNN_STEM.jpg after the photo's index
  * in the set: the photo with every face's box (the subject's thick and green, other faces
  * yellow, user-supplied faces blue), the landmarks, and the status written in the corner;

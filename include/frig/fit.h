@@ -25,6 +25,14 @@ FRIG_API frig_status frig_fit(frig_ctx *ctx, const frig_model *model, frig_photo
 FRIG_API frig_status frig_fit_write_overlays(frig_ctx *ctx, const frig_model *model, const frig_photoset *set,
                                              const char *dir);
 
+/* run: each landmark's reprojection error of the stored fits, for reports: errors gets 68
+ * values per photo of the set (pixels; the jaw landmarks where the fit last put them on the
+ * silhouette), eye_distance one per photo (pixels between the eye centres, the mean of
+ * landmarks 36-41 and of 42-47); both NaN for photos without a fit. model must be the one the
+ * set was fitted with (FRIG_ERR_STATE otherwise, or when the set has no fit). */
+FRIG_API frig_status frig_fit_landmark_errors(frig_ctx *ctx, const frig_model *model, const frig_photoset *set,
+                                              double *errors, double *eye_distance);
+
 #ifdef __cplusplus
 }
 #endif

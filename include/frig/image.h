@@ -70,6 +70,11 @@ FRIG_API frig_status frig_image_to_gray(frig_ctx *ctx, const frig_image *image, 
 FRIG_API frig_status frig_image_save_png(frig_ctx *ctx, const frig_image *image, const char *path);
 FRIG_API frig_status frig_image_save_jpeg(frig_ctx *ctx, const frig_image *image, const char *path);
 
+/* A thumbnail of an image file: decoded at a reduced size where the codec can (JPEG), then
+ * area-averaged to fit max_side (8 to 8192) on its longer side (never enlarged), saved
+ * atomically as a JPEG (image.jpeg_quality). */
+FRIG_API frig_status frig_image_save_thumbnail(frig_ctx *ctx, const char *src, int max_side, const char *dst);
+
 #ifdef __cplusplus
 }
 #endif

@@ -74,12 +74,14 @@ static frig_status detect_photo(frig_ctx *child, const frig_detector *det, frig_
 typedef struct photo_job {
     const frig_detector *det;
     frig_photoset *set;
+    size_t first;
 } photo_job;
 
 /* The loop's item: a failure of the run gets the photo's path in front of its sentence. */
 static frig_status photo_item(frig_ctx *child, size_t i, void *user) {
     const photo_job *job = user;
     frig_photoset *set = job->set;
+    i += job->first;
     frig_status st = detect_photo(child, job->det, set, i);
     if (st) {
         char msg[FR_ERRMSG_SIZE];
@@ -90,10 +92,24 @@ static frig_status photo_item(frig_ctx *child, size_t i, void *user) {
     return st;
 }
 
+frig_status frig_detect_photoset_range(frig_ctx *ctx, const frig_detector *det, frig_photoset *set, size_t first,
+                                       size_t count) {
+    if (!det || !set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_detect_photoset_range: NULL argument");
+    if (first > set->count || count > set->count - first)
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "photos %zu to %zu of a set of %zu", first, first + count,
+                        set->count);
+    photo_job job = {det, set, first};
+    return fr_parallel_items(ctx, count, "detect", photo_item, &job);
+}
+
+frig_status frig_detect_mark_duplicates(frig_ctx *ctx, frig_photoset *set) {
+    if (!set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_detect_mark_duplicates: no photo set");
+    return fr_mark_duplicates(ctx, set);
+}
+
 frig_status frig_detect_photoset(frig_ctx *ctx, const frig_detector *det, frig_photoset *set) {
     if (!det || !set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_detect_photoset: NULL argument");
-    photo_job job = {det, set};
-    frig_status st = fr_parallel_items(ctx, set->count, "detect", photo_item, &job);
+    frig_status st = frig_detect_photoset_range(ctx, det, set, 0, set->count);
     if (!st && fr_param_int(ctx, FRIG_PARAM_DETECT_DUPLICATES)) st = fr_mark_duplicates(ctx, set);
     return st;
 }

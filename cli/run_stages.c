@@ -1,0 +1,358 @@
+/* The stages of frig run, one row each: name, what changes its result (parameter prefixes and
+ * options such as input files' contents), what it reads and writes, how to run it. A new stage
+ * (identity after detect; sfs and retarget after fit) is a row here and its run function;
+ * the runner (cmd_run.c) does the rest: records, resuming, progress, time and memory. */
+#include <dirent.h>
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <frig/detect.h>
+#include <frig/filter.h>
+#include <frig/fit.h>
+
+#include "run.h"
+
+/* ---- options: files by content ---- */
+
+static int add_file_hash(cJSON *opts, const char *key, const char *path) {
+    run_hash h;
+    run_hash_init(&h);
+    char hex[17] = "missing";
+    if (run_hash_file(&h, path) == 0) run_hex(h.h, hex);
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "path", path);
+    cJSON_AddStringToObject(o, "hash", hex);
+    cJSON_AddItemToObject(opts, key, o);
+    return CLI_OK;
+}
+
+/* ---- frames: videos sampled with ffmpeg ---- */
+
+static int has_videos(run_ctx *r) {
+    for (size_t i = 0; i < r->source_count; i++)
+        if (r->sources[i].video) return 1;
+    return 0;
+}
+
+static void video_meta(run_ctx *r, const run_source *s, char *buf, size_t size) {
+    run_hash h;
+    run_hash_init(&h);
+    char hex[17] = "missing";
+    if (run_hash_file(&h, s->path) == 0) run_hex(h.h, hex);
+    snprintf(buf, size, "{\"video\": \"%s\", \"hash\": \"%s\", \"frames\": %d}\n", s->path, hex,
+             (int)frig_ctx_get_param(r->env->ctx, FRIG_PARAM_RUN_VIDEO_FRAMES));
+}
+
+static int frames_options(run_ctx *r, cJSON *opts) {
+    cJSON *v = cJSON_AddArrayToObject(opts, "videos");
+    for (size_t i = 0; i < r->source_count; i++) {
+        if (!r->sources[i].video) continue;
+        char meta[5000];
+        video_meta(r, &r->sources[i], meta, sizeof meta);
+        cJSON_AddItemToArray(v, cJSON_CreateString(meta));
+    }
+    return CLI_OK;
+}
+
+static int frames_run(run_ctx *r) {
+    char dir[4200];
+    run_path(r, "frames", dir, sizeof dir);
+    if (cli_make_dir(r->env, dir)) return CLI_FAILED;
+    int n = (int)frig_ctx_get_param(r->env->ctx, FRIG_PARAM_RUN_VIDEO_FRAMES), videos = 0, kept = 0;
+    for (size_t i = 0; i < r->source_count; i++) {
+        run_source *s = &r->sources[i];
+        if (!s->video) continue;
+        videos++;
+        /* a video already taken apart with these options: keep its frames (resume per video) */
+        char meta[5000], have_path[4300];
+        video_meta(r, s, meta, sizeof meta);
+        snprintf(have_path, sizeof have_path, "%s/frames.json", s->frames);
+        char *have = run_read_text(have_path, NULL);
+        int same = have && strcmp(have, meta) == 0;
+        free(have);
+        if (same) {
+            kept++;
+            continue;
+        }
+        run_progress_stage(r, "sampling %d frames of %s", n, s->path);
+        int rc = run_video_frames(r, s, n, meta);
+        if (rc) return rc;
+    }
+    /* frames of videos no longer given */
+    DIR *d = opendir(dir);
+    for (struct dirent *e; d && (e = readdir(d)) != NULL;) {
+        if (e->d_name[0] == '.') continue;
+        int ours = 0;
+        for (size_t i = 0; i < r->source_count; i++)
+            ours |= r->sources[i].video && strcmp(r->sources[i].name, e->d_name) == 0;
+        char stale[4500];
+        if (!ours && snprintf(stale, sizeof stale, "%s/%s", dir, e->d_name) < (int)sizeof stale) run_remove_tree(stale);
+    }
+    if (d) closedir(d);
+    run_summary(r, "%d video%s, %d frames each%s",
+             videos, videos == 1 ? "" : "s", n, kept ? " (some kept from an earlier run)" : "");
+    return CLI_OK;
+}
+
+/* ---- detect: faces and landmarks, in batches so a rerun resumes at the first photo left ---- */
+
+/* Every photo the run takes, in order: named photos and the videos' frames. */
+static int each_photo(run_ctx *r, int (*fn)(run_ctx *r, const char *path, void *user), void *user) {
+    for (size_t i = 0; i < r->source_count; i++) {
+        const run_source *s = &r->sources[i];
+        if (!s->video) {
+            int rc = fn(r, s->path, user);
+            if (rc) return rc;
+            continue;
+        }
+        char **files;
+        size_t n;
+        if (run_list_files(s->frames, &files, &n)) return cli_fail_msg("run", "cannot read %s", s->frames);
+        int rc = CLI_OK;
+        for (size_t k = 0; k < n; k++) {
+            if (rc == CLI_OK && cli_is_photo_name(files[k])) rc = fn(r, files[k], user);
+            free(files[k]);
+        }
+        free(files);
+        if (rc) return rc;
+    }
+    return CLI_OK;
+}
+
+static int hash_photo(run_ctx *r, const char *path, void *user) {
+    (void)r;
+    cJSON *list = user;
+    run_hash h;
+    run_hash_init(&h);
+    char hex[17] = "unreadable";
+    if (run_hash_file(&h, path) == 0) run_hex(h.h, hex);
+    cJSON *o = cJSON_CreateArray();
+    cJSON_AddItemToArray(o, cJSON_CreateString(path));
+    cJSON_AddItemToArray(o, cJSON_CreateString(hex));
+    cJSON_AddItemToArray(list, o);
+    return CLI_OK;
+}
+
+static int detect_options(run_ctx *r, cJSON *opts) {
+    int rc = each_photo(r, hash_photo, cJSON_AddArrayToObject(opts, "photos"));
+    if (rc) return rc;
+    char path[4200];
+    const char *dir = r->cascades ? r->cascades : "/usr/share/opencv4";
+    snprintf(path, sizeof path, "%s/haarcascades/haarcascade_frontalface_alt2.xml", dir);
+    struct stat st;
+    if (stat(path, &st) != 0) snprintf(path, sizeof path, "%s/haarcascade_frontalface_alt2.xml", dir);
+    add_file_hash(opts, "frontal_cascade", path);
+    add_file_hash(opts, "landmark_model",
+                  r->landmark_model ? r->landmark_model : "/usr/share/dlib/shape_predictor_68_face_landmarks.dat");
+    return CLI_OK;
+}
+
+static int add_photo(run_ctx *r, const char *path, void *user) {
+    return frig_photoset_add(r->env->ctx, user, path, NULL) ? cli_fail(r->env, "run") : CLI_OK;
+}
+
+static int fail_or_interrupted(run_ctx *r) {
+    return frig_ctx_status(r->env->ctx) == FRIG_ERR_CANCELLED || r->interrupted ? RUN_INTERRUPTED
+                                                                                : cli_fail(r->env, "run");
+}
+
+static int detect_run(run_ctx *r) {
+    cli_env *env = r->env;
+    char partial[4200], keyfile[4300];
+    run_path(r, "stages/detect/partial", partial, sizeof partial);
+    snprintf(keyfile, sizeof keyfile, "%s/key", partial);
+    frig_photoset *set = NULL;
+    /* an interrupted detect with these options: go on from its first pending photo */
+    char *key = run_read_text(keyfile, NULL);
+    int resume = key && strcmp(key, r->results[r->stage].key) == 0 && frig_photoset_load(env->ctx, partial, &set) == 0;
+    free(key);
+    if (!resume) {
+        frig_photoset_free(set);
+        set = NULL;
+        run_remove_tree(partial);
+        if (frig_photoset_create(env->ctx, &set)) return cli_fail(env, "run");
+        int rc = each_photo(r, add_photo, set);
+        if (rc) {
+            frig_photoset_free(set);
+            return rc;
+        }
+        if (cli_make_dir(env, partial) || run_write_atomic(keyfile, r->results[r->stage].key, 16)) {
+            frig_photoset_free(set);
+            return cli_fail_msg("run", "cannot write %s", keyfile);
+        }
+    }
+    size_t n = frig_photoset_count(set), first = 0;
+    while (first < n && frig_photoset_status(set, first) != FRIG_PHOTO_PENDING) first++;
+    if (resume && first) run_progress_stage(r, "resuming at photo %zu of %zu", first + 1, n);
+    frig_detector *det = NULL;
+    if (first < n && frig_detector_create(env->ctx, r->cascades, r->landmark_model, &det)) {
+        frig_photoset_free(set);
+        return cli_fail(env, "run");
+    }
+    int threads = frig_ctx_threads(env->ctx) > 0 ? frig_ctx_threads(env->ctx) : 2;
+    size_t batch = (size_t)(8 * threads);
+    int rc = CLI_OK;
+    for (size_t at = first; at < n && rc == CLI_OK; at += batch) {
+        size_t count = at + batch <= n ? batch : n - at;
+        run_progress_range(r, at, n);
+        if (frig_detect_photoset_range(env->ctx, det, set, at, count)) rc = fail_or_interrupted(r);
+        else if (frig_photoset_save(env->ctx, set, partial)) rc = cli_fail(env, "run");
+    }
+    run_progress_range(r, 0, 0);
+    frig_detector_free(det);
+    if (rc == CLI_OK && frig_ctx_get_param(env->ctx, FRIG_PARAM_DETECT_DUPLICATES) != 0 &&
+        frig_detect_mark_duplicates(env->ctx, set))
+        rc = fail_or_interrupted(r);
+    if (rc == CLI_OK) rc = run_save_set(r, set);
+    if (rc == CLI_OK) {
+        char dir[4200];
+        run_path(r, "overlays/detect", dir, sizeof dir);
+        cli_clear_jpegs(dir);
+        if (frig_detect_write_overlays(env->ctx, set, dir)) rc = fail_or_interrupted(r);
+    }
+    if (rc == CLI_OK) {
+        run_remove_tree(partial);
+        char dropped[512];
+        run_dropped_sentence(set, dropped, sizeof dropped);
+        size_t ok = 0;
+        for (size_t i = 0; i < n; i++) ok += frig_photoset_status(set, i) == FRIG_PHOTO_OK;
+        run_summary(r, "%zu photos, %zu with a usable face%s%s",
+                 n, ok, dropped[0] ? "; " : "", dropped);
+        rc = run_check_enough(r, set, 0);
+    }
+    frig_photoset_free(set);
+    return rc;
+}
+
+/* ---- filter ---- */
+
+static int filter_run(run_ctx *r) {
+    frig_photoset *set = NULL;
+    int rc = run_load_set(r, &set);
+    if (rc) return rc;
+    char sheet[4200];
+    run_path(r, "filter_contact_sheet.png", sheet, sizeof sheet);
+    if (frig_filter(r->env->ctx, set, sheet)) rc = fail_or_interrupted(r);
+    if (rc == CLI_OK) rc = run_save_set(r, set);
+    if (rc == CLI_OK) {
+        size_t checked = 0, dropped = 0;
+        for (size_t i = 0; i < frig_photoset_count(set); i++) {
+            int round;
+            if (!frig_photoset_filter(set, i, NULL, NULL, NULL, &round)) continue;
+            checked++;
+            dropped += round > 0;
+        }
+        run_summary(r, "%zu photos checked, %zu dropped as outliers", checked, dropped);
+        rc = run_check_enough(r, set, 0);
+    }
+    frig_photoset_free(set);
+    return rc;
+}
+
+/* ---- fit ---- */
+
+static int fit_options(run_ctx *r, cJSON *opts) {
+    char path[4096];
+    int rc = cli_model_path(r->env, "run", r->model_given, path, sizeof path);
+    if (rc) return rc;
+    return add_file_hash(opts, "model", path);
+}
+
+static int fit_run(run_ctx *r) {
+    cli_env *env = r->env;
+    int rc = run_load_model(r);
+    frig_photoset *set = NULL;
+    if (!rc) rc = run_load_set(r, &set);
+    if (rc) return rc;
+    frig_rig *rig = NULL;
+    char path[4200];
+    if (frig_fit(env->ctx, r->model, set)) rc = fail_or_interrupted(r);
+    if (rc == CLI_OK) rc = run_save_set(r, set);
+    const double *identity;
+    if (rc == CLI_OK) {
+        frig_photoset_identity(set, &identity);
+        if (frig_rig_from_model(env->ctx, r->model, identity, &rig) || cli_make_dir(env, run_path(r, "rig", path, sizeof path)) ||
+            frig_rig_save(env->ctx, rig, run_path(r, "rig/rig.frigrig", path, sizeof path)))
+            rc = fail_or_interrupted(r);
+    }
+    if (rc == CLI_OK) {
+        run_path(r, "overlays/fit", path, sizeof path);
+        cli_clear_jpegs(path);
+        if (frig_fit_write_overlays(env->ctx, r->model, set, path)) rc = fail_or_interrupted(r);
+    }
+    if (rc == CLI_OK) {
+        size_t fitted = 0, joint = 0;
+        double sum = 0;
+        for (size_t i = 0; i < frig_photoset_count(set); i++) {
+            if (!frig_photoset_fitted(set, i) || frig_photoset_status(set, i) != FRIG_PHOTO_OK) continue;
+            fitted++;
+            joint += frig_photoset_fit_in_joint(set, i);
+            sum += frig_photoset_fit_error(set, i);
+        }
+        run_summary(r, "%zu photos fitted (%zu in the joint identity), mean landmark error %.2f px", fitted, joint,
+                 fitted ? sum / (double)fitted : 0.0);
+        rc = run_check_enough(r, set, 1);
+    }
+    frig_rig_free(rig);
+    frig_photoset_free(set);
+    return rc;
+}
+
+/* ---- export: rig.glb and the OBJ folder ---- */
+
+static int export_options(run_ctx *r, cJSON *opts) {
+    char path[4200];
+    run_path(r, "textures/albedo.png", path, sizeof path);
+    struct stat st;
+    if (stat(path, &st) == 0) add_file_hash(opts, "face_texture", path);
+    cJSON_AddStringToObject(opts, "glb", r->rig.glb);
+    cJSON_AddStringToObject(opts, "shapes", r->rig.shapes);
+    return CLI_OK;
+}
+
+static int export_run(run_ctx *r) {
+    cli_env *env = r->env;
+    char path[4200];
+    frig_rig *rig = NULL;
+    if (frig_rig_load(env->ctx, run_path(r, "rig/rig.frigrig", path, sizeof path), &rig)) return cli_fail(env, "run");
+    run_path(r, "textures/albedo.png", path, sizeof path);
+    struct stat st;
+    int rc = CLI_OK, textured = stat(path, &st) == 0;
+    if (textured && frig_rig_set_face_texture(env->ctx, rig, path)) rc = cli_fail(env, "run");
+    if (rc == CLI_OK && cli_make_dir(env, r->rig.folder)) rc = CLI_FAILED;
+    if (rc == CLI_OK && (frig_rig_save_obj(env->ctx, rig, r->rig.shapes) || frig_rig_save_gltf(env->ctx, rig, r->rig.glb)))
+        rc = fail_or_interrupted(r);
+    if (rc == CLI_OK)
+        run_summary(r, "%s and %s/ (%d shapes)%s",
+                 r->rig.glb, r->rig.shapes, frig_rig_target_count(rig), textured ? ", with the face texture" : "");
+    frig_rig_free(rig);
+    return rc;
+}
+
+/* ---- report ---- */
+
+static int report_wanted(run_ctx *r) { return !r->no_report; }
+
+static int report_run(run_ctx *r) { return run_write_report(r); }
+
+/* ---- the table ---- */
+
+const run_stage run_stages[] = {
+    {"frames", "frames sampled from the videos with ffmpeg", "run.video_frames", "the video files", "frames",
+     "frames", 0, has_videos, frames_options, frames_run},
+    {"detect", "faces and 68 landmarks per photo (section 4.2)", "detect. image.", "the photos, OpenCV's cascades, dlib's landmark model",
+     "stages/detect/report.json overlays/detect", "stages/detect/report.json", 1, NULL, detect_options, detect_run},
+    {"filter", "failed detections dropped by robust PCA (Algorithm 1)", "filter. image.max_pixels", "report.json, the photos",
+     "stages/filter/report.json filter_contact_sheet.png", "stages/filter/report.json", 1, NULL, NULL, filter_run},
+    {"fit", "camera, pose and expression per photo, one identity (sections 4.3-4.4)", "fit. image.",
+     "report.json, the photos, the face model", "stages/fit/report.json rig/rig.frigrig overlays/fit",
+     "stages/fit/report.json rig/rig.frigrig", 1, NULL, fit_options, fit_run},
+    {"export", "the rig as glTF and OBJ files", "export.", "rig/rig.frigrig, textures/albedo.png", "@glb @shapes", "@glb",
+     0, NULL, export_options, export_run},
+    {"report", "report.html: photos, renders, error curves, times", "", "everything above", "report.html report",
+     "report.html", 0, report_wanted, NULL, report_run},
+};
+const int run_stage_count = (int)(sizeof run_stages / sizeof run_stages[0]);

@@ -1,0 +1,105 @@
+#!/usr/bin/env bash
+# frig run on a synthetic subject: the whole pipeline, then what a rerun keeps (nothing changed:
+# every stage up to date, no file rewritten; another export option: only export and the report
+# run; another fit option: fit, export, report), a run killed (SIGKILL) at random points and
+# resumed until done giving byte-identical rig.glb and shapes/ to the clean run, a "full disk"
+# (a file-size limit) and a resume, too few photos (a sentence and exit 1), -o NAME.glb, inputs
+# left untouched, and the usage errors.
+set -u
+. "$FRIG_SOURCE_DIR/tests/scripts/model_fixture.sh"
+fail=0
+check() { if ! eval "$1"; then echo "FAILED: $1"; fail=1; fi; }
+F="$FRIG_CLI"
+tmp="$FRIG_BINARY_DIR/test-tmp/cli_run"; rm -rf "$tmp"; mkdir -p "$tmp"
+
+check '"$F" help run | grep -q "usage: frig run PHOTO|FOLDER|VIDEO"'
+"$F" run 2>/dev/null; check '[ $? = 2 ]'
+"$F" run "$tmp/nothing_here" -o "$tmp/x" 2>"$tmp/err"; check '[ $? = 1 ]'
+check 'grep -q "nothing_here: no such file or folder" "$tmp/err"'
+
+frig_test_model || frig_test_skip "no ICT-FaceKit data"
+[ -f /usr/share/dlib/shape_predictor_68_face_landmarks.dat ] || frig_test_skip "libdlib-data is not installed"
+M="$FRIG_TEST_MODEL"
+"$F" --quiet --set synth.image_size=256 --set synth.max_yaw=30 --set synth.failure_rate=0.1 --set synth.rig_obj=0 \
+  synth --model "$M" -o "$tmp/synth" --photos 10 --seed 7 > /dev/null || exit 1
+photos="$tmp/synth/subject_00/photos"
+before=$(cd "$photos" && sha256sum * | sha256sum)
+# the report and its pictures are tested by cli_run_report.sh; here --no-report keeps it quick
+run() { "$F" --threads 2 --set export.texture_size=128 "${@:2}" run "$photos" --model "$M" --no-report -o "$1"; }
+
+# A clean run.
+run "$tmp/clean" > "$tmp/clean.out" 2> "$tmp/clean.err"; check '[ $? = 0 ]'
+cat "$tmp/clean.err"
+check '[ -s "$tmp/clean/rig.glb" ] && [ -f "$tmp/clean/shapes/neutral.obj" ] && [ -s "$tmp/clean/report.json" ]'
+check 'grep -q "^rig: $tmp/clean/rig.glb and $tmp/clean/shapes/$" "$tmp/clean.out"'
+for s in detect filter fit export; do check '[ -s "$tmp/clean/stages/'$s'/stage.json" ]'; done
+check '[ ! -e "$tmp/clean/stages/frames" ] && [ ! -e "$tmp/clean/stages/detect/partial" ]'
+check '[ "$(cd "$photos" && sha256sum * | sha256sum)" = "$before" ]'   # inputs untouched
+
+# Nothing changed: every stage up to date, the rig not rewritten.
+stamp=$(stat -c %Y.%y "$tmp/clean/rig.glb")
+run "$tmp/clean" > /dev/null 2> "$tmp/again.err"; check '[ $? = 0 ]'
+check '[ $(grep -c "up to date" "$tmp/again.err") = 4 ] && [ "$(stat -c %Y.%y "$tmp/clean/rig.glb")" = "$stamp" ]'
+# Another export option: detect, filter and fit are kept.
+cp "$tmp/clean/rig.glb" "$tmp/base.glb"
+run "$tmp/clean" --set export.eye_overlays=0 > /dev/null 2> "$tmp/ov.err"; check '[ $? = 0 ]'
+check 'grep -q "detect .*up to date" "$tmp/ov.err" && grep -q "fit .*up to date" "$tmp/ov.err" && ! grep -q "export .*up to date" "$tmp/ov.err"'
+check '! cmp -s "$tmp/clean/rig.glb" "$tmp/base.glb"'
+# Another fit option: fit and export run again, detect and filter are kept.
+run "$tmp/clean" --set fit.w_id=25 > /dev/null 2> "$tmp/fit.err"; check '[ $? = 0 ]'
+check 'grep -q "filter .*up to date" "$tmp/fit.err" && ! grep -q "fit .*up to date" "$tmp/fit.err"'
+# Back to the defaults: the clean run's bytes again.
+cp "$tmp/clean/rig.glb" "$tmp/changed.glb"
+run "$tmp/clean" > /dev/null 2>&1; check '[ $? = 0 ]'
+run "$tmp/ref" > /dev/null 2>&1
+check 'cmp -s "$tmp/clean/rig.glb" "$tmp/ref/rig.glb" && ! cmp -s "$tmp/changed.glb" "$tmp/ref/rig.glb"'
+
+# Killed (SIGKILL) at random points, resumed until it finishes: the same bytes. Each kill comes
+# at a random share of the work left (the clean run's stage times, less the stages done).
+RANDOM=13
+left() { /usr/bin/python3 - "$tmp/ref" "$tmp/killed" <<'PY'
+import glob, json, os, sys
+ref, run = sys.argv[1:3]
+t = 0.0
+for f in glob.glob(os.path.join(ref, "stages", "*", "stage.json")):
+    r = json.load(open(f))
+    if not os.path.exists(os.path.join(run, "stages", r["stage"], "stage.json")): t += r["seconds"]
+print("%.3f" % t)
+PY
+}
+kills=0
+for attempt in 1 2 3 4 5 6; do
+  work=$(left)
+  delay=$(awk -v r=$RANDOM -v t="$work" 'BEGIN{printf "%.3f", 0.05 + (0.1 + 0.8 * r / 32767.0) * t}')
+  run "$tmp/killed" > /dev/null 2>&1 &
+  pid=$!
+  sleep "$delay"
+  if kill -9 $pid 2>/dev/null; then kills=$((kills + 1)); echo "killed after $delay s (of ${work} s of work left)"; fi
+  wait $pid 2>/dev/null
+  [ $kills -ge 3 ] && break
+done
+run "$tmp/killed" > /dev/null 2> "$tmp/killed.err"; check '[ $? = 0 ]'
+echo "killed $kills times, then resumed:"; grep "frig run: \[" "$tmp/killed.err" | cut -c1-100
+check '[ $kills -ge 2 ]'
+check 'cmp -s "$tmp/killed/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/killed/shapes" "$tmp/ref/shapes"'
+check '[ -z "$(find "$tmp/killed" -name ".*.??????")" ]'   # no temporary files left
+
+# A full disk (a file-size limit the glTF cannot fit in): an error sentence, exit 1; then resumed.
+( ulimit -f 4000; trap "" XFSZ; exec "$F" --threads 2 --set export.texture_size=128 run "$photos" --model "$M" --no-report -o "$tmp/full" ) > /dev/null 2> "$tmp/full.err"
+check '[ $? = 1 ] && grep -q "File too large\|write failed" "$tmp/full.err"'
+run "$tmp/full" > /dev/null 2> "$tmp/full2.err"; check '[ $? = 0 ]'
+check 'grep -q "detect .*up to date" "$tmp/full2.err" && cmp -s "$tmp/full/rig.glb" "$tmp/ref/rig.glb"'
+
+# -o NAME.glb: that file, NAME_shapes/ beside it, the run's folder NAME_run/.
+run "$tmp/named/face.glb" > /dev/null 2>&1; check '[ $? = 0 ]'
+check 'cmp -s "$tmp/named/face.glb" "$tmp/ref/rig.glb" && [ -f "$tmp/named/face_shapes/jawOpen.obj" ] && [ -s "$tmp/named/face_run/report.json" ]'
+
+# Too few usable photos: a sentence naming how many and why, exit 1.
+mkdir -p "$tmp/few" && cp "$photos/photo_000.jpg" "$photos/photo_001.jpg" "$tmp/few/" && cp "$photos/photo_001.jpg" "$tmp/few/copy.jpg"
+"$F" --threads 2 run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2> "$tmp/few.err"; check '[ $? = 1 ]'
+cat "$tmp/few.err" | tail -1
+check 'grep -q "stopped: 2 of 3 photos are usable after detect, and a rig needs at least 5 (run.min_photos): 1 duplicate" "$tmp/few.err"'
+check '[ ! -e "$tmp/fewout/rig.glb" ]'
+"$F" --quiet --threads 2 --set run.min_photos=2 run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2>&1
+check '[ $? = 0 ] && [ -s "$tmp/fewout/rig.glb" ]'
+exit $fail

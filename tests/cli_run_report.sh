@@ -1,0 +1,66 @@
+#!/usr/bin/env bash
+# frig run's report page on a small synthetic set: every picture and link it names exists
+# beside it, it has its sections, thumbnails and plots, and headless Chromium opens it from
+# disk with no console errors and no network request (a screenshot is kept in the build tree).
+# A video input goes through ffmpeg into frames and the same pipeline.
+set -u
+. "$FRIG_SOURCE_DIR/tests/scripts/model_fixture.sh"
+fail=0
+check() { if ! eval "$1"; then echo "FAILED: $1"; fail=1; fi; }
+F="$FRIG_CLI"
+tmp="$FRIG_BINARY_DIR/test-tmp/cli_run_report"; rm -rf "$tmp"; mkdir -p "$tmp"
+frig_test_model || frig_test_skip "no ICT-FaceKit data"
+[ -f /usr/share/dlib/shape_predictor_68_face_landmarks.dat ] || frig_test_skip "libdlib-data is not installed"
+command -v chromium > /dev/null || frig_test_skip "chromium is not installed (scripts/install-deps.sh --test)"
+command -v ffmpeg > /dev/null || frig_test_skip "ffmpeg is not installed (scripts/install-deps.sh --test)"
+M="$FRIG_TEST_MODEL"
+"$F" --quiet --set synth.image_size=256 --set synth.max_yaw=30 --set synth.failure_rate=0.15 --set synth.rig_obj=0 \
+  synth --model "$M" -o "$tmp/synth" --photos 14 --seed 11 > /dev/null || exit 1
+photos="$tmp/synth/subject_00/photos"
+# The same photos as a video (MJPEG in Matroska: a codec every ffmpeg build has), 2 copies of each frame.
+ffmpeg -nostdin -v error -framerate 4 -i "$photos/photo_%03d.jpg" -vf "fps=8" -c:v mjpeg -q:v 3 "$tmp/clip.mkv" || exit 1
+
+"$F" --threads 2 --set export.texture_size=128 --set run.video_frames=14 run "$photos" "$tmp/clip.mkv" --model "$M" \
+  -o "$tmp/out" > "$tmp/run.out" 2> "$tmp/run.err"
+check '[ $? = 0 ]'
+cat "$tmp/run.err"
+check 'grep -q "^report: $tmp/out/report.html$" "$tmp/run.out"'
+check '[ $(ls "$tmp/out/frames/clip" | grep -c "^clip_[0-9]*\.jpg$") = 14 ]'
+check 'grep -q "frames .*1 video, 14 frames each" "$tmp/run.err"'
+
+/usr/bin/python3 - "$tmp/out" > "$tmp/page" 2>&1 <<'PY'
+import os, re, sys, json
+out = sys.argv[1]
+html = open(os.path.join(out, "report.html"), encoding="utf-8").read()
+bad = []
+refs = re.findall(r'(?:src|href)="([^"#][^"]*)"', html)
+for ref in refs:
+    if re.match(r"[a-z]+:", ref):
+        bad.append("an absolute URL: " + ref)
+        continue
+    path = os.path.join(out, re.sub(r"%([0-9A-F]{2})", lambda m: chr(int(m.group(1), 16)), ref))
+    if not os.path.exists(path):
+        bad.append("missing: " + ref)
+report = json.load(open(os.path.join(out, "report.json")))
+n = len(report["photos"])
+thumbs = len(re.findall(r'src="report/thumbs/\d+\.jpg"', html))
+for need in ('id="rig"', 'id="errors"', 'id="stages"', 'id="photos"', "report/expressions.png",
+             "report/neutral_front.png", "Landmark error", "Fit error per photo", "<svg"):
+    if need not in html:
+        bad.append("no " + need)
+if n != 28 or thumbs < n - 3:
+    bad.append("%d photos, %d thumbnails" % (n, thumbs))
+print("\n".join(bad) if bad else "page ok: %d photos, %d thumbnails, %d links" % (n, thumbs, len(refs)))
+PY
+cat "$tmp/page"
+check 'grep -q "^page ok" "$tmp/page"'
+
+# Headless Chromium, from disk: no console messages at error level, no network.
+HOME="$tmp" timeout 120 chromium --headless=new --no-sandbox --disable-gpu --no-first-run --disable-extensions \
+  --disable-background-networking --user-data-dir="$tmp/chromium" --enable-logging=stderr --v=0 \
+  --window-size=1400,2400 --screenshot="$tmp/report.png" "file://$tmp/out/report.html" > /dev/null 2> "$tmp/chromium.log"
+check '[ -s "$tmp/report.png" ]'
+grep "CONSOLE" "$tmp/chromium.log" | head
+check '! grep "CONSOLE" "$tmp/chromium.log" | grep -qi "error\|failed"'
+check '! grep -qi "net::ERR\|Failed to load resource" "$tmp/chromium.log"'
+exit $fail
