@@ -22,8 +22,9 @@ M="$FRIG_TEST_MODEL"
 "$F" --quiet fit -w "$tmp/empty" --model "$M" 2>"$tmp/err"; check '[ $? = 1 ]'
 check 'grep -q "no report.json yet" "$tmp/err"'
 
-# 12 photos of one synthetic subject, 3 of them intended failures (occluder, extreme pose, no face).
-"$F" --quiet --set synth.image_size=320 --set synth.max_yaw=35 --set synth.failure_rate=0.25 --set synth.rig_obj=0 \
+# 12 photos of one synthetic subject, 6 of them intended failures (one of each kind: occluder, extreme
+# pose, no face, sunglasses, under- and over-exposed).
+"$F" --quiet --set synth.image_size=320 --set synth.max_yaw=35 --set synth.failure_rate=0.5 --set synth.rig_obj=0 \
   synth --model "$M" -o "$tmp/synth" --photos 12 --seed 5 > /dev/null
 check '[ $? = 0 ]'
 "$F" --quiet detect "$tmp/synth/subject_00/photos" -w "$tmp/ws"

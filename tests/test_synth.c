@@ -177,7 +177,8 @@ static void test_truth_matches_render(const frig_synth_subject *s) {
 /* The fast path gives the render's landmark truth, byte for byte; the jaw rule leaves frontal
  * points near the vertices and puts a turned face's far side on a silhouette. */
 static void test_landmarks(const frig_synth_subject *s) {
-    for (int failure = 0; failure < 3; failure++) {
+    for (int failure = 0; failure <= FR_SYNTH_FAILURE_KINDS; failure++) {
+        if (failure == FRIG_SYNTH_FAILURE_NO_FACE) continue;
         fr_synth_photo p;
         fr_synth_photo_draw(s, 77 + failure, SIDE, SIDE, failure, 60, 0.1, &p);
         fr_synth_landmarks fast;
@@ -186,7 +187,7 @@ static void test_landmarks(const frig_synth_subject *s) {
         CHECK(fr_synth_render_photo(ctx, s, &p, NULL, &t) == FRIG_OK);
         if (!t) continue;
         CHECK(memcmp(&fast, &t->lm, sizeof fast) == 0);
-        if (failure == FRIG_SYNTH_FAILURE_OCCLUDER) {
+        if (failure == FRIG_SYNTH_FAILURE_OCCLUDER || failure == FRIG_SYNTH_FAILURE_SUNGLASSES) {
             int hidden = 0;
             for (int k = 0; k < FR_SYNTH_LANDMARKS; k++)
                 hidden += !t->lm.visible[k] && fr_synth_occluded(&t->photo, t->lm.detector[2 * k], t->lm.detector[2 * k + 1]);
@@ -215,6 +216,96 @@ static void test_landmarks(const frig_synth_subject *s) {
     CHECK(frontal < 3.0);
     CHECK(far_moved >= 4);
     CHECK(near_moved <= 1);
+}
+
+/* Luminance (0-255 scale, sRGB-encoded values) of pixel i. */
+static double lum(const frig_image *img, size_t i) {
+    const uint8_t *px = frig_image_pixels(img) + 3 * i;
+    return 0.2126 * px[0] + 0.7152 * px[1] + 0.0722 * px[2];
+}
+
+/* Cast shadows darken exactly the pixels the class map calls shadow (and change little
+ * elsewhere); highlights brighten the ones it calls highlight; the sunglasses cover the eyes;
+ * the exposure failures darken or blow out the face; HEAD agrees with the depth map. */
+static void test_effects(const frig_synth_subject *s) {
+    const int side = 256;
+    fr_synth_photo p;
+    fr_synth_photo_draw(s, 4242, side, side, FRIG_SYNTH_FAILURE_NONE, 0, 0.0, &p);
+    double d[3] = {0.75, -0.45, -0.5}, len = sqrt(0.75 * 0.75 + 0.45 * 0.45 + 0.25); /* from the side and above */
+    for (int c = 0; c < 3; c++) {
+        for (int i = 0; i < 3; i++) p.light_dir[i] = d[i] / len;
+        p.direct_rgb[c] = 0.9;
+        fr_sh_irradiance_coeffs(p.light_dir, 0.9, 0.25, p.sh[c]);
+        fr_sh_irradiance_coeffs(p.light_dir, 0.9, 0.0, p.sh_direct[c]);
+    }
+    p.shadows = 0, p.spec_ks = 0.0, p.spec_shininess = 20.0;
+    frig_image *plain = NULL, *shadowed = NULL, *shiny = NULL;
+    frig_synth_truth *t0 = NULL, *t1 = NULL, *t2 = NULL;
+    CHECK(fr_synth_render_photo(ctx, s, &p, &plain, &t0) == FRIG_OK);
+    p.shadows = 1;
+    CHECK(fr_synth_render_photo(ctx, s, &p, &shadowed, &t1) == FRIG_OK);
+    p.shadows = 0, p.spec_ks = 0.3;
+    CHECK(fr_synth_render_photo(ctx, s, &p, &shiny, &t2) == FRIG_OK);
+    if (!plain || !shadowed || !shiny) goto done;
+    size_t n = (size_t)side * side;
+    int shadow = 0, darker = 0, other = 0, same = 0, high = 0, brighter = 0, head = 0, agree = 0;
+    for (size_t i = 0; i < n; i++) {
+        uint8_t m = t1->mask[i];
+        int is_head = t0->depth[i] > 0.0f;
+        head += is_head, agree += is_head == ((m & FRIG_SYNTH_PIXEL_HEAD) != 0);
+        CHECK(!(t0->mask[i] & FRIG_SYNTH_PIXEL_SHADOW)); /* no shadows without them */
+        if (m & FRIG_SYNTH_PIXEL_SHADOW) shadow++, darker += lum(shadowed, i) < 0.95 * lum(plain, i);
+        else if (m & FRIG_SYNTH_PIXEL_HEAD) other++, same += fabs(lum(shadowed, i) - lum(plain, i)) <= 1.5 + 0.08 * lum(plain, i);
+        if (t2->mask[i] & FRIG_SYNTH_PIXEL_HIGHLIGHT) high++, brighter += lum(shiny, i) > lum(plain, i) + 2.0;
+    }
+    printf("effects: %d cast-shadow pixels (%d darker by 5%%+), %d of %d other head pixels within 8%%; %d highlight "
+           "pixels (%d brighter); HEAD agrees with the depth map on %d of %d+ pixels\n",
+           shadow, darker, same, other, high, brighter, agree, head);
+    CHECK(shadow >= 50 && darker >= 0.9 * shadow);
+    CHECK(same >= 0.95 * other);
+    CHECK(high >= 20 && brighter >= 0.9 * high);
+    CHECK(agree >= (int)n - (int)(0.05 * head));
+    frig_image_free(plain), frig_image_free(shadowed), frig_image_free(shiny);
+    frig_synth_truth_free(t0), frig_synth_truth_free(t1), frig_synth_truth_free(t2);
+    plain = shadowed = shiny = NULL;
+    t0 = t1 = t2 = NULL;
+
+    /* Exposure failures against the same photo well exposed; sunglasses over the eyes. */
+    int kinds[3] = {FRIG_SYNTH_FAILURE_UNDEREXPOSED, FRIG_SYNTH_FAILURE_OVEREXPOSED, FRIG_SYNTH_FAILURE_SUNGLASSES};
+    fr_synth_photo_draw(s, 99, side, side, FRIG_SYNTH_FAILURE_NONE, 20, 0.0, &p);
+    CHECK(fr_synth_render_photo(ctx, s, &p, &plain, &t0) == FRIG_OK);
+    for (int k = 0; k < 3 && plain; k++) {
+        fr_synth_photo q;
+        fr_synth_photo_draw(s, 99, side, side, kinds[k], 20, 0.0, &q);
+        frig_image *img = NULL;
+        frig_synth_truth *t = NULL;
+        CHECK(fr_synth_render_photo(ctx, s, &q, &img, &t) == FRIG_OK);
+        if (!img) continue;
+        double face = 0.0, face0 = 0.0;
+        int faces = 0, clipped = 0, eyes_hidden = 0;
+        for (size_t i = 0; i < n; i++) {
+            if (!(t->mask[i] & FRIG_SYNTH_PIXEL_SKIN)) continue;
+            const uint8_t *px = frig_image_pixels(img) + 3 * i;
+            faces++, face += lum(img, i), face0 += lum(plain, i);
+            clipped += px[0] == 255 || px[1] == 255 || px[2] == 255;
+        }
+        for (int e = 36; e < 48; e++) {
+            int x = (int)lround(t->lm.exact[2 * e]), y = (int)lround(t->lm.exact[2 * e + 1]);
+            if (x >= 0 && y >= 0 && x < side && y < side)
+                eyes_hidden += (t->mask[(size_t)y * side + (size_t)x] & FRIG_SYNTH_PIXEL_OCCLUDED) != 0;
+        }
+        printf("%s: skin luminance %.1f (well exposed %.1f), %d of %d skin pixels clipped, %d of 12 eye points "
+               "under the glasses\n", frig_synth_failure_name(kinds[k]), face / faces, face0 / faces, clipped, faces,
+               eyes_hidden);
+        if (k == 0) CHECK(face < 0.35 * face0);
+        if (k == 1) CHECK(clipped >= 0.5 * faces);
+        if (k == 2) CHECK(eyes_hidden == 12);
+        frig_image_free(img);
+        frig_synth_truth_free(t);
+    }
+done:
+    frig_image_free(plain), frig_image_free(shadowed), frig_image_free(shiny);
+    frig_synth_truth_free(t0), frig_synth_truth_free(t1), frig_synth_truth_free(t2);
 }
 
 static double json_number(const cJSON *o, const char *key) {
@@ -246,13 +337,13 @@ static void check_dataset(const char *dir, int photos, double rate) {
     const cJSON *subj = cJSON_GetArrayItem(cJSON_GetObjectItemCaseSensitive(index, "subjects"), 0);
     const cJSON *list = cJSON_GetObjectItemCaseSensitive(subj, "photos"), *ph;
     CHECK(cJSON_GetArraySize(list) == photos);
-    int failures = 0, kinds[4] = {0};
+    int failures = 0, kinds[FR_SYNTH_FAILURE_KINDS + 1] = {0};
     cJSON_ArrayForEach(ph, list) {
         const char *kind = cJSON_GetObjectItemCaseSensitive(ph, "failure")->valuestring;
         int k = 0;
-        while (k < 4 && strcmp(frig_synth_failure_name(k), kind) != 0) k++;
-        CHECK(k < 4);
-        if (k >= 4) continue;
+        while (k <= FR_SYNTH_FAILURE_KINDS && strcmp(frig_synth_failure_name(k), kind) != 0) k++;
+        CHECK(k <= FR_SYNTH_FAILURE_KINDS);
+        if (k > FR_SYNTH_FAILURE_KINDS) continue;
         kinds[k]++, failures += k != 0;
         cJSON *t = read_json(dir, cJSON_GetObjectItemCaseSensitive(ph, "truth")->valuestring);
         const cJSON *lm = cJSON_GetObjectItemCaseSensitive(t, "landmarks");
@@ -260,6 +351,16 @@ static void check_dataset(const char *dir, int photos, double rate) {
         if (k == FRIG_SYNTH_FAILURE_EXTREME_POSE)
             CHECK(fabs(json_number(cJSON_GetObjectItemCaseSensitive(t, "pose"), "yaw_deg")) >= 75.0);
         CHECK((k == FRIG_SYNTH_FAILURE_OCCLUDER) == cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(t, "occluder")));
+        CHECK((k == FRIG_SYNTH_FAILURE_SUNGLASSES) == cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(t, "sunglasses")));
+        const cJSON *mask = cJSON_GetObjectItemCaseSensitive(t, "mask");
+        char mpath[8600];
+        const char *tname = cJSON_GetObjectItemCaseSensitive(ph, "truth")->valuestring, *slash = strrchr(tname, '/');
+        snprintf(mpath, sizeof mpath, "%s/%.*s/%s", dir, (int)(slash ? slash - tname : 0), tname,
+                 cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(mask, "file")));
+        size_t msize = 0;
+        unsigned char *mbytes = test_read_file(mpath, &msize);
+        CHECK(mbytes && msize == (size_t)SIDE * SIDE);
+        free(mbytes);
         char path[8600];
         snprintf(path, sizeof path, "%s/%s", dir, cJSON_GetObjectItemCaseSensitive(ph, "photo")->valuestring);
         frig_image *img = NULL;
@@ -268,10 +369,10 @@ static void check_dataset(const char *dir, int photos, double rate) {
         frig_image_free(img);
         cJSON_Delete(t);
     }
-    printf("data set: %d photos, %d failures (%d occluder, %d extreme pose, %d no face)\n", photos, failures, kinds[1],
-           kinds[2], kinds[3]);
+    printf("data set: %d photos, %d failures (%d occluder, %d extreme pose, %d no face, %d sunglasses, %d dark, %d "
+           "blown out)\n", photos, failures, kinds[1], kinds[2], kinds[3], kinds[4], kinds[5], kinds[6]);
     CHECK(failures == (int)lround(rate * photos));
-    CHECK(kinds[1] >= failures / 3 && kinds[2] >= failures / 3 && kinds[3] >= failures / 3);
+    for (int k = 1; k <= FR_SYNTH_FAILURE_KINDS; k++) CHECK(kinds[k] >= failures / FR_SYNTH_FAILURE_KINDS);
     char path[8600];
     snprintf(path, sizeof path, "%s/subject_00/rig/rig.frigrig", dir);
     frig_rig *rig = NULL;
@@ -282,7 +383,7 @@ static void check_dataset(const char *dir, int photos, double rate) {
 }
 
 static void test_dataset(void) {
-    const int photos = 12;
+    const int photos = 24;
     const double rate = 0.25;
     CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_FAILURE_RATE, rate) == FRIG_OK);
     char one[4200], two[4200];
@@ -339,6 +440,7 @@ int main(void) {
         test_rig_round_trip(s);
         test_truth_matches_render(s);
         test_landmarks(s);
+        test_effects(s);
     }
     frig_synth_subject_free(s);
     test_dataset();

@@ -160,6 +160,8 @@ typedef enum frig_param {
     FRIG_PARAM_SYNTH_FAILURE_RATE = 502,    /* share of intended failures (default 0.1) */
     FRIG_PARAM_SYNTH_IMAGE_SIZE = 503,      /* photo side in pixels (default 512) */
     FRIG_PARAM_SYNTH_RIG_OBJ = 504,         /* 1: also write each true rig as OBJ files (default 1) */
+    FRIG_PARAM_SYNTH_SHADOWS = 505,         /* share of photos whose key light casts hard shadows (default 0.5) */
+    FRIG_PARAM_SYNTH_SPECULAR = 506,        /* strength of the skin's specular highlights, 0 = none (default 1) */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

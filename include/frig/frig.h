@@ -18,5 +18,6 @@
 #include "frig/filter.h"
 #include "frig/fit.h"
 #include "frig/synth.h"
+#include "frig/clouds.h"
 
 #endif /* FRIG_FRIG_H */

@@ -24,10 +24,14 @@ typedef enum frig_synth_failure {
     FRIG_SYNTH_FAILURE_NONE = 0,      /* a usable photo */
     FRIG_SYNTH_FAILURE_OCCLUDER = 1,  /* an opaque shape or a hand over the eyes or the mouth */
     FRIG_SYNTH_FAILURE_EXTREME_POSE = 2, /* yaw 75-90 degrees */
-    FRIG_SYNTH_FAILURE_NO_FACE = 3    /* background only */
+    FRIG_SYNTH_FAILURE_NO_FACE = 3,   /* background only */
+    FRIG_SYNTH_FAILURE_SUNGLASSES = 4, /* dark glasses over both eyes */
+    FRIG_SYNTH_FAILURE_UNDEREXPOSED = 5, /* the whole photo 8-30x too dark */
+    FRIG_SYNTH_FAILURE_OVEREXPOSED = 6 /* the whole photo 4-10x too bright: the face blown out */
 } frig_synth_failure;
 
-/* "none", "occluder", "extreme_pose", "no_face"; NULL for other values. */
+/* "none", "occluder", "extreme_pose", "no_face", "sunglasses", "underexposed", "overexposed";
+ * NULL for other values. */
 FRIG_API const char *frig_synth_failure_name(int failure);
 
 /* ---- subjects ----
@@ -77,9 +81,25 @@ FRIG_API void frig_synth_truth_camera(const frig_synth_truth *truth, double *f, 
 FRIG_API const double *frig_synth_truth_expression(const frig_synth_truth *truth);
 /* Camera z (metres) of the rendered head at each pixel centre, row-major, 0 where no surface. */
 FRIG_API const float *frig_synth_truth_depth(const frig_synth_truth *truth, int *width, int *height);
+
+/* What each pixel shows, as bits (a pixel has a bit when most of its 2x2 render samples have it).
+ * The pixels shape from shading may trust are HEAD & SKIN with none of SHADOW, HIGHLIGHT,
+ * OCCLUDED, HAIR. */
+enum {
+    FRIG_SYNTH_PIXEL_HEAD = 1,      /* the head's surface (as in the depth map) */
+    FRIG_SYNTH_PIXEL_SKIN = 2,      /* ... and it is skin (not eyes, teeth, mouth, lashes) */
+    FRIG_SYNTH_PIXEL_SHADOW = 4,    /* a cast shadow of the key light takes >= 15% of its light */
+    FRIG_SYNTH_PIXEL_HIGHLIGHT = 8, /* specular reflection is >= 10% of its value */
+    FRIG_SYNTH_PIXEL_OCCLUDED = 16, /* an occluder, a hand or sunglasses in front */
+    FRIG_SYNTH_PIXEL_HAIR = 32      /* hair, brows or beard painted on the skin */
+};
+/* The class map (width x height bytes of FRIG_SYNTH_PIXEL_* bits, row-major); NULL without a truth. */
+FRIG_API const uint8_t *frig_synth_truth_mask(const frig_synth_truth *truth, int *width, int *height);
 FRIG_API int frig_synth_truth_jpeg_quality(const frig_synth_truth *truth);
 /* Write the truth as JSON and the depth map as raw float32 little-endian (docs/synth.md);
- * 'photo' is the file name the JSON refers to; depth_path may be NULL (then no depth file). */
+ * 'photo' is the file name the JSON refers to; depth_path may be NULL (then no depth file).
+ * With a depth file the class map is written beside it as raw bytes: NAME.depth.f32 ->
+ * NAME.mask.u8 (any other depth name: the depth name + ".mask.u8"). */
 FRIG_API frig_status frig_synth_truth_save(frig_ctx *ctx, const frig_synth_truth *truth, const char *photo,
                                            const char *json_path, const char *depth_path);
 

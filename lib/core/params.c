@@ -95,6 +95,10 @@ static const param_row rows[] = {
     {FRIG_PARAM_SYNTH_IMAGE_SIZE, "synth.image_size", 512, 64, 8192, 1, "side of synthetic photos, pixels"},
     {FRIG_PARAM_SYNTH_RIG_OBJ, "synth.rig_obj", 1, 0, 1, 1,
      "1: write each synthetic subject's true rig as OBJ files too (about 150 MB a subject)"},
+    {FRIG_PARAM_SYNTH_SHADOWS, "synth.shadows", 0.5, 0, 1, 0,
+     "share of synthetic photos whose key light casts hard shadows (nose, brows, jaw on the neck)"},
+    {FRIG_PARAM_SYNTH_SPECULAR, "synth.specular", 1, 0, 10, 0,
+     "strength of synthetic skin's specular highlights relative to the default (0: matte skin)"},
 
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,

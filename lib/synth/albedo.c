@@ -11,6 +11,8 @@
 #include "model/model.h"
 #include "synth/synth.h"
 
+#define BEARD_SHARE 0.3 /* subjects with a beard */
+
 typedef struct painter {
     const frig_model *m;
     const float *x;   /* mean-face positions (metres) */
@@ -20,6 +22,7 @@ typedef struct painter {
     double skin[3], lip[3], brow[3], hair[3];
     double hairline, brow_density;
     int bald;
+    double beard; /* density, 0 = clean-shaven */
 } painter;
 
 static void lin3(const double srgb[3], double out[3]) {
@@ -75,7 +78,9 @@ static void paint_lips(const painter *p, const float *x, double *c) {
     if (a > 0.0) mix3(c, p->lip, a);
 }
 
-static void paint_brows(const painter *p, const float *x, double *c) {
+/* Returns how much brow covers the point. */
+static double paint_brows(const painter *p, const float *x, double *c) {
+    double most = 0.0;
     for (int side = 0; side < 2; side++) {
         int first = side ? 22 : 17, last = side ? 26 : 21;
         if (x[2] < P(p, first)[2] - 0.015) continue;
@@ -85,7 +90,9 @@ static void paint_brows(const painter *p, const float *x, double *c) {
         double hw = 0.0022 + 0.0016 * inner;
         double a = 1.0 - fr_smoothstep(hw - 0.0008, hw + 0.0008, d);
         if (a > 0.0) mix3(c, p->brow, a * p->brow_density);
+        most = fmax(most, a * p->brow_density);
     }
+    return most;
 }
 
 static void paint_eye_surround(const painter *p, const float *x, double *c) {
@@ -125,31 +132,64 @@ static double hairline_at(const painter *p, double z) {
     return 0.05 + (-0.03 - 0.05) * t;
 }
 
-static void paint_hair(const painter *p, const float *x, int in_face, double *c) {
-    if (p->bald) return;
+/* Returns how much hair covers the point. */
+static double paint_hair(const painter *p, const float *x, int in_face, double *c) {
+    if (p->bald) return 0.0;
     int ear = in_face && fabs(x[0]) > 0.068 && x[1] < 0.06 && x[2] < 0.04; /* the ears are face vertices */
-    if (ear) return;
+    if (ear) return 0.0;
     double a = fr_smoothstep(-0.004, 0.006, x[1] - hairline_at(p, x[2]));
     if (a > 0.0) mix3(c, p->hair, a);
+    return a;
 }
 
-static void skin_vertex(const painter *p, int v, const float *normals, fr_rng *rng, const fr_bump *blot, int nblot,
-                        double *c) {
+/* Signed side of q relative to the line a -> b in (x, y) (positive to its left). */
+static double side_of(const double q[2], const float *a, const float *b) {
+    return (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]);
+}
+
+/* A beard: the jaw and chin below the lines from the ears' level of the jaw (landmarks 2, 14)
+ * to the mouth corners, under the chin, and a moustache between the nose and the upper lip;
+ * never on the lips. Returns how much beard covers the point. */
+static double paint_beard(const painter *p, const float *x, double *c) {
+    if (p->beard <= 0.0 || x[2] < P(p, 8)[2] - 0.07) return 0.0;
+    double q[2] = {x[0], x[1]};
+    if (inside(p, q, 48, 59) || poly_dist(p, q, 48, 59, 1, NULL) < 0.0015) return 0.0;
+    int right = x[0] < 0.0;
+    const float *ear = P(p, right ? 2 : 14), *corner = P(p, right ? 48 : 54);
+    double s = side_of(q, ear, corner) * (right ? -1.0 : 1.0) / 0.05;
+    double jaw = fr_smoothstep(-0.002, 0.003, s) * (1.0 - fr_smoothstep(0.075, 0.085, fabs(x[0])));
+    double below = P(p, 8)[1] - x[1]; /* under the chin, onto the neck */
+    double chin = 1.0 - fr_smoothstep(0.03, 0.045, below);
+    double a = jaw * chin;
+    double top = P(p, 33)[1] - 0.003, bottom = fmax(P(p, 50)[1], P(p, 52)[1]) + 0.001;
+    if (x[1] < top && x[1] > bottom && fabs(x[0]) < fabs(P(p, 48)[0]) + 0.004 && x[2] > P(p, 33)[2] - 0.02)
+        a = fmax(a, fr_smoothstep(0.0, 0.002, fmin(top - x[1], x[1] - bottom)));
+    a *= p->beard;
+    if (a > 0.0) mix3(c, p->hair, a);
+    return a;
+}
+
+/* Paints vertex v; returns how much hair, brow or beard covers it. */
+static double skin_vertex(const painter *p, int v, const float *normals, fr_rng *rng, const fr_bump *blot, int nblot,
+                          double *c) {
     const float *x = p->x + 3 * (size_t)v;
     memcpy(c, p->skin, sizeof p->skin);
     double q[3] = {x[0], x[1], x[2]}, f[3];
     fr_bumps_eval(blot, nblot, q, f); /* smooth tone variation and cheek blush */
     for (int i = 0; i < 3; i++) c[i] *= 1.0 + f[i];
     int in_face = v >= p->face0 && v < p->face0 + p->nface;
+    double hair = 0.0;
     if (in_face) {
         paint_lips(p, x, c);
         paint_eye_surround(p, x, c);
         paint_nostrils(p, x, normals + 3 * (size_t)v, c);
-        paint_brows(p, x, c);
+        hair = paint_brows(p, x, c);
     }
-    paint_hair(p, x, in_face, c);
+    hair = fmax(hair, paint_beard(p, x, c));
+    hair = fmax(hair, paint_hair(p, x, in_face, c));
     double grain = 1.0 + 0.03 * (fr_rng_uniform(rng) - 0.5);
     for (int i = 0; i < 3; i++) c[i] *= grain;
+    return hair;
 }
 
 static void pick_colours(painter *p, frig_synth_subject *s, fr_rng *rng) {
@@ -227,11 +267,17 @@ frig_status fr_synth_paint_albedo(frig_ctx *ctx, const frig_model *model, frig_s
     pick_colours(&p, s, rng);
     fr_bump blot[14];
     int nblot = draw_blots(&p, rng, blot, 14);
+    /* The beard from a stream of its own: the other colours stay what they were. */
+    fr_rng beard;
+    fr_rng_seed(&beard, fr_seed_mix(s->seed, 0xbea4dULL));
+    s->beard = fr_rng_uniform(&beard) < BEARD_SHARE;
+    p.beard = s->beard ? 0.55 + 0.4 * fr_rng_uniform(&beard) : 0.0;
     for (int v = 0; v < nv; v++) {
         double c[3];
         int skin = (v >= p.face0 && v < p.face0 + p.nface) || (v >= p.head0 && v < p.head0 + p.nhead);
-        if (skin) skin_vertex(&p, v, normals, rng, blot, nblot, c);
+        if (skin) s->hair[v] = (float)skin_vertex(&p, v, normals, rng, blot, nblot, c);
         else fixed_colours(&p, s, v, c);
+        s->skin[v] = (uint8_t)(skin && p.cls[v] == FR_SYNTH_SKIN);
         for (int i = 0; i < 3; i++) s->albedo[3 * (size_t)v + i] = (float)fmin(1.0, fmax(0.0, c[i]));
     }
     free(p.cls), free(normals);

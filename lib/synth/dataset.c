@@ -23,6 +23,7 @@ static void draw_params(frig_ctx *ctx, const frig_synth_subject *s, uint64_t see
     int side = fr_param_int(ctx, FRIG_PARAM_SYNTH_IMAGE_SIZE);
     fr_synth_photo_draw(s, seed, side, side, failure, fr_param(ctx, FRIG_PARAM_SYNTH_MAX_YAW),
                         fr_param(ctx, FRIG_PARAM_SYNTH_FAILURE_RATE), p);
+    fr_synth_photo_effects(p, fr_param(ctx, FRIG_PARAM_SYNTH_SHADOWS), fr_param(ctx, FRIG_PARAM_SYNTH_SPECULAR));
 }
 
 frig_status frig_synth_render(frig_ctx *ctx, const frig_synth_subject *subject, uint64_t photo_seed, int failure,
@@ -30,7 +31,7 @@ frig_status frig_synth_render(frig_ctx *ctx, const frig_synth_subject *subject, 
     if (image) *image = NULL;
     if (truth) *truth = NULL;
     if (!subject) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_synth_render: no subject");
-    if (failure < FRIG_SYNTH_FAILURE_AUTO || failure > FRIG_SYNTH_FAILURE_NO_FACE)
+    if (failure < FRIG_SYNTH_FAILURE_AUTO || failure > FR_SYNTH_FAILURE_KINDS)
         return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_synth_render: %d is not a failure kind", failure);
     fr_synth_photo p;
     draw_params(ctx, subject, photo_seed, failure, &p);
@@ -43,16 +44,16 @@ static void failure_plan(uint64_t seed, double rate, int n, int *kind) {
     fr_rng_seed(&rng, seed);
     int *order = malloc(sizeof *order * (size_t)(n > 0 ? n : 1));
     for (int i = 0; i < n; i++) kind[i] = FRIG_SYNTH_FAILURE_NONE;
-    int nf = (int)lround(rate * n), first = (int)fr_rng_below(&rng, 3);
+    int nf = (int)lround(rate * n), first = (int)fr_rng_below(&rng, FR_SYNTH_FAILURE_KINDS);
     if (!order) { /* still deterministic: the first photos */
-        for (int j = 0; j < nf; j++) kind[j] = 1 + (first + j) % 3;
+        for (int j = 0; j < nf; j++) kind[j] = 1 + (first + j) % FR_SYNTH_FAILURE_KINDS;
         return;
     }
     for (int i = 0; i < n; i++) order[i] = i;
     for (int j = 0; j < nf; j++) {
         int r = j + (int)fr_rng_below(&rng, (uint64_t)(n - j)), tmp = order[j];
         order[j] = order[r], order[r] = tmp;
-        kind[order[j]] = 1 + (first + j) % 3;
+        kind[order[j]] = 1 + (first + j) % FR_SYNTH_FAILURE_KINDS;
     }
     free(order);
 }

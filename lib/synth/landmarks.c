@@ -88,6 +88,7 @@ frig_status fr_synth_landmarks_from_render(frig_ctx *ctx, const frig_synth_subje
     }
     free(vis);
     if (p->failure == FRIG_SYNTH_FAILURE_OCCLUDER) fr_synth_place_occluder(p, lm->exact);
+    if (p->failure == FRIG_SYNTH_FAILURE_SUNGLASSES) fr_synth_place_sunglasses(p, lm->exact);
     memcpy(lm->detector, lm->exact, sizeof lm->exact);
     for (int k = 0; k < 17; k++) jaw_to_outline(s, p, r, k, lm);
     for (int k = 0; k < 17; k++)

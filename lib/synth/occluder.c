@@ -39,6 +39,7 @@ static double seg_dist(double x, double y, double ax, double ay, double bx, doub
 }
 
 int fr_synth_occluded(const fr_synth_photo *p, double x, double y) {
+    if (p->failure == FRIG_SYNTH_FAILURE_SUNGLASSES) return fr_synth_sunglasses_at(p, x, y, NULL, NULL) != 0;
     if (p->failure != FRIG_SYNTH_FAILURE_OCCLUDER) return 0;
     double c = cos(p->occ_angle), s = sin(p->occ_angle);
     double u = c * (x - p->occ_centre[0]) + s * (y - p->occ_centre[1]);

@@ -110,7 +110,37 @@ static void draw_lighting(const frig_synth_subject *s, fr_rng *r, fr_synth_photo
         double tint_d = 1.0 + uniform(r, -0.08, 0.08), tint_a = 1.0 + uniform(r, -0.08, 0.08);
         fr_sh_irradiance_coeffs(p->light_dir, p->exposure * (1.0 - ambient) * tint_d, p->exposure * ambient * tint_a,
                                 p->sh[c]);
+        p->direct_rgb[c] = p->exposure * (1.0 - ambient) * tint_d;
+        fr_sh_irradiance_coeffs(p->light_dir, p->direct_rgb[c], 0.0, p->sh_direct[c]);
     }
+}
+
+/* Dark glasses: the lenses' size and height jitter, a dark tinted lens, a frame colour and the
+ * strength of the sky reflected in the lenses. */
+static void draw_sunglasses(fr_rng *r, fr_synth_photo *p) {
+    for (int i = 0; i < 4; i++) p->sg_jitter[i] = uniform(r, -1.0, 1.0);
+    double dark = uniform(r, 0.008, 0.04), tint[3] = {uniform(r, 0.7, 1.3), uniform(r, 0.7, 1.3), uniform(r, 0.7, 1.3)};
+    for (int c = 0; c < 3; c++) p->sg_lens[c] = dark * tint[c];
+    int metal = fr_rng_uniform(r) < 0.4;
+    for (int c = 0; c < 3; c++) p->sg_frame[c] = metal ? uniform(r, 0.3, 0.6) : uniform(r, 0.01, 0.06);
+    p->sg_glare = uniform(r, 0.0, 0.12);
+}
+
+/* An exposure failure scales the whole photo: 8-30x too dark, or 4-10x too bright. */
+static double draw_gain(fr_rng *r, int failure) {
+    if (failure == FRIG_SYNTH_FAILURE_UNDEREXPOSED) return 1.0 / uniform(r, 8.0, 30.0);
+    if (failure == FRIG_SYNTH_FAILURE_OVEREXPOSED) return uniform(r, 4.0, 10.0);
+    return 1.0;
+}
+
+/* Hard shadows in a share of the photos (a key light on a clear day, a flash off the camera);
+ * oily to matte skin: a Blinn-Phong lobe whose peak is 3-15% of the key light. */
+void fr_synth_photo_effects(fr_synth_photo *p, double shadow_rate, double specular) {
+    fr_rng r;
+    fr_rng_seed(&r, fr_seed_mix(p->seed, 0x5adeULL));
+    p->shadows = fr_rng_uniform(&r) < shadow_rate;
+    p->spec_ks = specular * uniform(&r, 0.03, 0.15);
+    p->spec_shininess = uniform(&r, 12.0, 40.0);
 }
 
 static void draw_background(fr_rng *r, fr_synth_photo *p) {
@@ -142,7 +172,8 @@ void fr_synth_photo_draw(const frig_synth_subject *s, uint64_t seed, int width, 
     p->width = width;
     p->height = height;
     if (failure == FRIG_SYNTH_FAILURE_AUTO)
-        failure = fr_rng_uniform(&r) < failure_rate ? 1 + (int)fr_rng_below(&r, 3) : FRIG_SYNTH_FAILURE_NONE;
+        failure = fr_rng_uniform(&r) < failure_rate ? 1 + (int)fr_rng_below(&r, FR_SYNTH_FAILURE_KINDS)
+                                                     : FRIG_SYNTH_FAILURE_NONE;
     p->failure = failure;
     draw_pose(&r, max_yaw_deg, failure == FRIG_SYNTH_FAILURE_EXTREME_POSE, p);
     draw_expression(s, &r, p);
@@ -153,4 +184,6 @@ void fr_synth_photo_draw(const frig_synth_subject *s, uint64_t seed, int width, 
     p->jpeg_quality = 70 + (int)fr_rng_below(&r, 26);
     p->noise_sigma = uniform(&r, 0.5, 3.0);
     p->noise_seed = fr_rng_next(&r);
+    draw_sunglasses(&r, p);
+    p->gain = draw_gain(&r, failure);
 }

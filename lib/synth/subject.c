@@ -182,11 +182,13 @@ static frig_status alloc_subject(frig_ctx *ctx, const frig_model *m, frig_synth_
     s->shape_count = m->expression_count;
     s->identity_count = m->identity_count;
     s->albedo = malloc(sizeof *s->albedo * 3 * (size_t)s->nv);
+    s->hair = calloc((size_t)s->nv, sizeof *s->hair);
+    s->skin = calloc((size_t)s->nv, 1);
     s->fitting = malloc((size_t)s->shape_count);
     s->identity = calloc((size_t)s->identity_count + 1, sizeof *s->identity);
     s->shape_scale = calloc((size_t)s->shape_count, sizeof *s->shape_scale);
     s->shape_field_rel = calloc((size_t)s->shape_count, sizeof *s->shape_field_rel);
-    if (!s->albedo || !s->fitting || !s->identity || !s->shape_scale || !s->shape_field_rel)
+    if (!s->albedo || !s->hair || !s->skin || !s->fitting || !s->identity || !s->shape_scale || !s->shape_field_rel)
         return fr_nomem(ctx, "a synthetic subject");
     for (int k = 0; k < s->shape_count; k++) s->fitting[k] = (uint8_t)(m->expression_fitting[k] != 0);
     memcpy(s->landmarks, m->landmarks, sizeof s->landmarks);
@@ -264,7 +266,7 @@ frig_status frig_synth_subject_create(frig_ctx *ctx, const frig_model *model, ui
 void frig_synth_subject_free(frig_synth_subject *s) {
     if (!s) return;
     frig_rig_free(s->rig);
-    free(s->albedo), free(s->torso_xyz), free(s->tris), free(s->outline_tri), free(s->eye_tri), free(s->fitting);
+    free(s->albedo), free(s->hair), free(s->skin), free(s->torso_xyz), free(s->tris), free(s->outline_tri), free(s->eye_tri), free(s->fitting);
     free(s->identity), free(s->shape_scale), free(s->shape_field_rel);
     free(s);
 }

@@ -13,6 +13,7 @@
 
 #define FR_SYNTH_LANDMARKS 68
 #define FR_SYNTH_MAX_ACTIVE 5 /* expression shapes active in one photo (4 + a paired jawOpen) */
+#define FR_SYNTH_FAILURE_KINDS 6 /* occluder .. overexposed */
 
 /* Vertex classes the renderer and the albedo painter use. */
 enum {
@@ -51,7 +52,9 @@ struct frig_synth_subject {
     double *shape_scale;     /* a_j per shape */
     double *shape_field_rel; /* RMS of s_j / RMS of d_j over the vertices d_j moves */
     double skin_srgb[3], hair_srgb[3], iris_srgb[3], cloth_srgb[3];
-    int bald;
+    int bald, beard;
+    float *hair;      /* per head vertex: 0..1, how much hair, brow or beard covers the skin */
+    uint8_t *skin;    /* per head vertex: 1 = skin (face, head and neck), 0 = eyes, teeth, mouth, lashes */
 };
 
 /* One photo's parameters, all drawn from its seed (fr_synth_photo_draw); callers may edit
@@ -79,6 +82,17 @@ typedef struct fr_synth_photo {
     int jpeg_quality;
     double noise_sigma; /* sensor noise, 8-bit levels */
     uint64_t noise_seed;
+    /* the key light's part of the lighting (drawn by fr_synth_photo_draw with the rest) */
+    double sh_direct[3][9]; /* its share of sh: removed where the key light is shadowed */
+    double direct_rgb[3];   /* its irradiance per channel (for highlights) */
+    double gain;            /* the whole image times this: 1, or an exposure failure's factor */
+    /* sunglasses (failure SUNGLASSES), placed from the landmarks like the occluder (sunglasses.c) */
+    double sg_jitter[4];
+    double sg_centre[2][2], sg_axes[2][2], sg_angle, sg_rim; /* pixels, radians */
+    double sg_lens[3], sg_frame[3], sg_glare;              /* linear RGB, reflection strength */
+    /* cast shadows and highlights (fr_synth_photo_effects, from their own stream) */
+    int shadows;                    /* 1: the key light casts hard shadows */
+    double spec_ks, spec_shininess; /* skin's Blinn-Phong highlight */
 } fr_synth_photo;
 
 /* The landmark truth of one photo. */
@@ -125,6 +139,26 @@ double fr_smoothstep(double e0, double e1, double x);
 /* Draw a photo's parameters; failure is a frig_synth_failure (AUTO: from failure_rate). */
 void fr_synth_photo_draw(const frig_synth_subject *s, uint64_t seed, int width, int height, int failure,
                          double max_yaw_deg, double failure_rate, fr_synth_photo *p);
+/* Cast shadows (with probability shadow_rate) and specular highlights (strength x specular)
+ * for a drawn photo, from a stream of their own (the photo's other parameters do not change). */
+void fr_synth_photo_effects(fr_synth_photo *p, double shadow_rate, double specular);
+
+/* A shadow map of the key light: the scene's depth along the light's direction of travel,
+ * orthographic (shadow.c). */
+typedef struct fr_shadow_map {
+    int size;
+    double u[3], v[3], w[3]; /* light frame: w = direction of travel */
+    double scale, ou, ov;    /* texel = scale * (X.u, X.v) + (ou, ov) */
+    fr_raster *r;
+} fr_shadow_map;
+/* Render the triangles of camera-space vertices xyz as seen from a distant light in direction
+ * light_dir (unit, toward the light) into a size x size map. */
+frig_status fr_synth_shadow_map(frig_ctx *ctx, const float *xyz, int nv, const int32_t *tris, int nt,
+                                const double light_dir[3], int size, fr_shadow_map *m);
+void fr_synth_shadow_map_free(fr_shadow_map *m);
+/* Share (0..1) of a 3x3 neighbourhood of map texels around camera-space point X that do not
+ * hide X from the light (percentage-closer filtering). */
+double fr_synth_shadow_visibility(const fr_shadow_map *m, const double X[3]);
 /* The posed head in camera coordinates (3 per vertex; caller frees). */
 frig_status fr_synth_posed_vertices(frig_ctx *ctx, const frig_synth_subject *s, const fr_synth_photo *p,
                                     float **xyz_cam);
@@ -138,8 +172,14 @@ frig_status fr_synth_landmarks_only(frig_ctx *ctx, const frig_synth_subject *s, 
                                     fr_synth_landmarks *lm);
 /* Place the occluder over the eyes or the mouth of the exact landmark projections (occluder.c). */
 void fr_synth_place_occluder(fr_synth_photo *p, const double exact[2 * FR_SYNTH_LANDMARKS]);
-/* Is image point (x, y) under the photo's occluder (always 0 unless failure is OCCLUDER)? */
+/* Place the sunglasses over the eyes of the exact landmark projections (sunglasses.c). */
+void fr_synth_place_sunglasses(fr_synth_photo *p, const double exact[2 * FR_SYNTH_LANDMARKS]);
+/* Is image point (x, y) under the photo's occluder or sunglasses (0 for other photos)? */
 int fr_synth_occluded(const fr_synth_photo *p, double x, double y);
+/* The sunglasses' part at (x, y): 0 none, 1 lens, 2 frame (sunglasses.c). */
+int fr_synth_sunglasses_at(const fr_synth_photo *p, double x, double y, double *lens_u, double *lens_v);
+/* Draw the sunglasses over a linear RGB buffer rendered at 'scale' times the photo's size. */
+void fr_synth_draw_sunglasses(const fr_synth_photo *p, int w, int h, double scale, float *rgb);
 
 /* Second-order spherical harmonics (sh_lighting.c): the 9 real basis functions at unit n. */
 void fr_sh_basis(const double n[3], double y[9]);
@@ -176,6 +216,7 @@ struct frig_synth_truth {
     char *names_blob;
     int32_t landmark_vertices[FR_SYNTH_LANDMARKS];
     float *depth; /* width * height, 0 where empty */
+    uint8_t *mask; /* width * height FRIG_SYNTH_PIXEL_* bits */
 };
 /* A one-line JSON array of n numbers (truth.c). */
 struct fr_json;

@@ -25,7 +25,8 @@ frig_status fr_synth_truth_new(frig_ctx *ctx, const frig_synth_subject *s, const
     t->shape_names = calloc((size_t)s->shape_count + 1, sizeof *t->shape_names);
     t->names_blob = malloc(s->rig->name_blob_size + 1);
     t->depth = calloc((size_t)p->width * (size_t)p->height, sizeof *t->depth);
-    if (!t->expression || !t->shape_names || !t->names_blob || !t->depth) {
+    t->mask = calloc((size_t)p->width * (size_t)p->height + 1, 1);
+    if (!t->expression || !t->shape_names || !t->names_blob || !t->depth || !t->mask) {
         frig_synth_truth_free(t);
         return fr_nomem(ctx, "a photo's truth");
     }
@@ -41,7 +42,7 @@ frig_status fr_synth_truth_new(frig_ctx *ctx, const frig_synth_subject *s, const
 
 void frig_synth_truth_free(frig_synth_truth *t) {
     if (!t) return;
-    free(t->expression), free(t->shape_names), free(t->names_blob), free(t->depth);
+    free(t->expression), free(t->shape_names), free(t->names_blob), free(t->depth), free(t->mask);
     free(t);
 }
 
@@ -78,9 +79,16 @@ const float *frig_synth_truth_depth(const frig_synth_truth *t, int *width, int *
 
 int frig_synth_truth_jpeg_quality(const frig_synth_truth *t) { return t ? t->photo.jpeg_quality : 0; }
 
+const uint8_t *frig_synth_truth_mask(const frig_synth_truth *t, int *width, int *height) {
+    if (width) *width = t ? t->photo.width : 0;
+    if (height) *height = t ? t->photo.height : 0;
+    return t ? t->mask : NULL;
+}
+
 const char *frig_synth_failure_name(int failure) {
-    static const char *const names[] = {"none", "occluder", "extreme_pose", "no_face"};
-    return failure >= 0 && failure < 4 ? names[failure] : NULL;
+    static const char *const names[] = {"none",       "occluder",     "extreme_pose", "no_face",
+                                        "sunglasses", "underexposed", "overexposed"};
+    return failure >= 0 && failure <= FR_SYNTH_FAILURE_KINDS ? names[failure] : NULL;
 }
 
 void fr_synth_json_numbers(fr_json *j, const char *key, const double *v, int n) {
@@ -120,13 +128,30 @@ static void write_expression_lighting(fr_json *j, const frig_synth_truth *t) {
     for (int a = 0; a < p->n_active; a++) fr_json_number(j, t->shape_names[p->active[a]], p->weight[a]);
     fr_json_end(j);
     fr_json_object(j, "lighting");
-    fr_json_string(j, "model", "albedo * sum_k sh[c][k] Y_k(n), n in camera coordinates (docs/synth.md)");
+    fr_json_string(j, "model", "albedo * sum_k (sh[c][k] - (1 - visibility) sh_key[c][k]) Y_k(n) + highlight, "
+                               "n in camera coordinates (docs/synth.md)");
+    double v[9];
     fr_json_array(j, "sh", 0);
-    for (int c = 0; c < 3; c++) fr_synth_json_numbers(j, NULL, p->sh[c], 9);
+    for (int c = 0; c < 3; c++) {
+        for (int k = 0; k < 9; k++) v[k] = p->gain * p->sh[c][k];
+        fr_synth_json_numbers(j, NULL, v, 9);
+    }
+    fr_json_end(j);
+    fr_json_array(j, "sh_key", 0);
+    for (int c = 0; c < 3; c++) {
+        for (int k = 0; k < 9; k++) v[k] = p->gain * p->sh_direct[c][k];
+        fr_synth_json_numbers(j, NULL, v, 9);
+    }
     fr_json_end(j);
     fr_synth_json_numbers(j, "direction", p->light_dir, 3);
     fr_json_number(j, "direct_to_ambient", p->light_ratio);
     fr_json_number(j, "exposure", p->exposure);
+    fr_json_number(j, "gain", p->gain);
+    fr_json_bool(j, "cast_shadows", p->shadows);
+    fr_json_object(j, "specular");
+    fr_json_number(j, "ks", p->spec_ks);
+    fr_json_number(j, "shininess", p->spec_shininess);
+    fr_json_end(j);
     fr_json_end(j);
 }
 
@@ -164,6 +189,35 @@ static void write_occluder(fr_json *j, const fr_synth_photo *p) {
     fr_json_end(j);
 }
 
+static void write_sunglasses(fr_json *j, const fr_synth_photo *p) {
+    if (p->failure != FRIG_SYNTH_FAILURE_SUNGLASSES) {
+        fr_json_null(j, "sunglasses");
+        return;
+    }
+    fr_json_object(j, "sunglasses");
+    fr_json_array(j, "lens_centres", 0);
+    for (int e = 0; e < 2; e++) fr_synth_json_numbers(j, NULL, p->sg_centre[e], 2);
+    fr_json_end(j);
+    fr_json_array(j, "lens_half_axes", 0);
+    for (int e = 0; e < 2; e++) fr_synth_json_numbers(j, NULL, p->sg_axes[e], 2);
+    fr_json_end(j);
+    fr_json_number(j, "angle_deg", p->sg_angle * 180.0 / 3.14159265358979323846);
+    fr_synth_json_numbers(j, "lens_linear", p->sg_lens, 3);
+    fr_synth_json_numbers(j, "frame_linear", p->sg_frame, 3);
+    fr_json_end(j);
+}
+
+/* NAME.depth.f32 -> NAME.mask.u8, any other name + ".mask.u8" (a new string). */
+static char *mask_path_for(const char *depth_path) {
+    size_t n = strlen(depth_path), suffix = strlen(".depth.f32");
+    char *m = malloc(n + 16);
+    if (!m) return NULL;
+    if (n > suffix && !strcmp(depth_path + n - suffix, ".depth.f32")) n -= suffix;
+    memcpy(m, depth_path, n);
+    strcpy(m + n, ".mask.u8");
+    return m;
+}
+
 static void write_truth(fr_json *j, const frig_synth_truth *t, const char *photo, const char *depth_name) {
     const fr_synth_photo *p = &t->photo;
     fr_json_object(j, NULL);
@@ -183,6 +237,7 @@ static void write_truth(fr_json *j, const frig_synth_truth *t, const char *photo
         write_landmarks(j, t);
     }
     write_occluder(j, p);
+    write_sunglasses(j, p);
     if (depth_name) {
         fr_json_object(j, "depth");
         fr_json_string(j, "file", depth_name);
@@ -190,6 +245,13 @@ static void write_truth(fr_json *j, const frig_synth_truth *t, const char *photo
         fr_json_int(j, "height", p->height);
         fr_json_string(j, "format", "float32 little-endian, row-major, camera z in metres, 0 = no surface");
         fr_json_end(j);
+        char *mask = mask_path_for(depth_name);
+        fr_json_object(j, "mask");
+        fr_json_string(j, "file", mask ? mask : "");
+        fr_json_string(j, "format", "uint8, row-major, bits: 1 head, 2 skin, 4 cast shadow, 8 highlight, "
+                                    "16 occluder or sunglasses, 32 hair (docs/synth.md)");
+        fr_json_end(j);
+        free(mask);
     }
     fr_json_end(j);
     fr_json_finish(j);
@@ -213,6 +275,12 @@ frig_status frig_synth_truth_save(frig_ctx *ctx, const frig_synth_truth *t, cons
                                   const char *depth_path) {
     if (!t || !json_path) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_synth_truth_save: no truth or path");
     frig_status s = depth_path ? save_depth(ctx, t, depth_path) : FRIG_OK;
+    if (!s && depth_path) {
+        char *mask = mask_path_for(depth_path);
+        s = mask ? fr_write_file_atomic(ctx, mask, t->mask, (size_t)t->photo.width * (size_t)t->photo.height)
+                 : fr_nomem(ctx, "a file name");
+        free(mask);
+    }
     fr_atomic_file af;
     if (!s) s = fr_atomic_open(ctx, json_path, &af);
     if (s) return s;
