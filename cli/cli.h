@@ -30,8 +30,36 @@ void cli_note(cli_env *env, const char *fmt, ...) __attribute__((format(printf, 
 int cli_make_dir(cli_env *env, const char *path);
 
 
-/* OUT/rig.glb and the OBJ files in OUT/shapes/, and a summary of the targets on stdout. */
-int cli_export_rig(cli_env *env, const char *cmd, const frig_rig *rig, const char *out);
+/* Print "frig CMD: message" to stderr and return CLI_FAILED (exit 1): a run that cannot go on. */
+int cli_fail_msg(const char *cmd, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+
+/* Where -o puts a rig: a folder OUT gets OUT/rig.glb and OUT/shapes/; a name OUT.glb gets
+ * OUT.glb and OUT_shapes/ beside it. Any other extension is a usage error. */
+typedef struct cli_rig_paths {
+    char glb[4096], shapes[4096], folder[4096]; /* folder: where both go */
+} cli_rig_paths;
+int cli_rig_paths_of(const char *cmd, const char *out, cli_rig_paths *p);
+/* The rig's glTF and OBJ files where -o OUT says (above), with the face texture when given
+ * (a PNG path, may be NULL), and a summary of the targets on stdout. */
+int cli_export_rig(cli_env *env, const char *cmd, frig_rig *rig, const char *out, const char *texture);
+/* Remove the *.jpg files in a folder (an earlier run's overlays). */
+void cli_clear_jpegs(const char *dir);
+
+/* Inputs named on the command line (inputs.c): photos, and videos for frig run. */
+typedef struct cli_input {
+    char *path; /* absolute when it resolves */
+    int video;
+} cli_input;
+typedef struct cli_inputs {
+    cli_input *items;
+    size_t count, cap;
+} cli_inputs;
+/* A photo, a video (allow_videos), or a folder's photos in name order (or, when it holds
+ * none and allow_videos, its videos). A missing path: the sentence and CLI_FAILED. */
+int cli_inputs_add(const char *cmd, cli_inputs *in, const char *arg, int allow_videos);
+void cli_inputs_free(cli_inputs *in);
+int cli_is_photo_name(const char *name);
+int cli_is_video_name(const char *name);
 /* --model FILE (given, may be NULL) or the default model path into buf; load it. */
 int cli_model_path(cli_env *env, const char *cmd, const char *given, char *buf, size_t size);
 int cli_load_model(cli_env *env, const char *cmd, const char *given, frig_model **m);

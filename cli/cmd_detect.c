@@ -1,14 +1,9 @@
 /* frig detect PHOTOS... -w WORKSPACE: the detect stage from the command line (paper section
  * 4.2): faces, landmarks and each photo's status into WORKSPACE/report.json, pictures of them
  * into WORKSPACE/overlays/detect/. A new run replaces the report. */
-#include <dirent.h>
 #include <limits.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <strings.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
 #include <frig/detect.h>
 #include <frig/photoset.h>
@@ -26,8 +21,9 @@ const char cmd_detect_usage[] =
     "other_person: the identity step, frig help identify), or without descriptors the largest,\n"
     "most central face. A folder stands for its .jpg, .jpeg\n"
     "and .png files (not its subfolders), in name order; files named directly are taken\n"
-    "whatever their extension. Landmarks in STEM.pts (iBUG) or STEM.landmarks.json beside a\n"
-    "photo replace detection (--set detect.user_landmarks=0 ignores them).\n"
+    "whatever their extension; a path that does not exist stops the command (exit 1).\n"
+    "Landmarks in STEM.pts (iBUG) or STEM.landmarks.json beside a photo replace detection\n"
+    "(--set detect.user_landmarks=0 ignores them). Videos: frig run.\n"
     "\n"
     "Writes WORKSPACE/report.json (replacing any earlier report: one entry per photo with its\n"
     "status ok / no_face / face_too_small / unreadable, every face's box, score, source and 68\n"
@@ -44,69 +40,6 @@ const char cmd_detect_usage[] =
     "  --no-identity          do not run the identity step after detection\n"
     "  --no-overlays          do not draw the overlays\n"
     "Parameters: detect.*, identity.* (frig help params).\n";
-
-static int photo_ext(const char *name) {
-    const char *dot = strrchr(name, '.');
-    return dot && (strcasecmp(dot, ".jpg") == 0 || strcasecmp(dot, ".jpeg") == 0 || strcasecmp(dot, ".png") == 0);
-}
-
-static int by_name(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
-
-/* The absolute path when it resolves, else as given. */
-static int add_photo(cli_env *env, frig_photoset *set, const char *path) {
-    char abs[PATH_MAX];
-    const char *p = realpath(path, abs) ? abs : path;
-    return frig_photoset_add(env->ctx, set, p, NULL) ? cli_fail(env, "detect") : CLI_OK;
-}
-
-static int add_folder(cli_env *env, frig_photoset *set, const char *dir) {
-    DIR *d = opendir(dir);
-    if (!d) return cli_usage_error("detect", "cannot read the folder %s", dir);
-    char **names = NULL;
-    size_t n = 0, cap = 0;
-    int rc = CLI_OK;
-    for (struct dirent *e; (e = readdir(d)) != NULL && rc == CLI_OK;) {
-        if (e->d_name[0] == '.' || !photo_ext(e->d_name)) continue;
-        size_t len = strlen(dir) + strlen(e->d_name) + 2;
-        char *full = malloc(len);
-        if (n == cap) {
-            cap = cap ? 2 * cap : 64;
-            char **nn = realloc(names, cap * sizeof *names);
-            if (nn) names = nn;
-            else cap = n;
-        }
-        if (!full || n == cap) {
-            free(full);
-            rc = cli_usage_error("detect", "out of memory listing %s", dir);
-            break;
-        }
-        snprintf(full, len, "%s/%s", dir, e->d_name);
-        struct stat st;
-        if (stat(full, &st) == 0 && S_ISREG(st.st_mode)) names[n++] = full;
-        else free(full);
-    }
-    closedir(d);
-    if (n) qsort(names, n, sizeof *names, by_name);
-    for (size_t i = 0; i < n; i++) {
-        if (rc == CLI_OK) rc = add_photo(env, set, names[i]);
-        free(names[i]);
-    }
-    free(names);
-    return rc;
-}
-
-/* Remove the *.jpg files a previous run left in the overlay folder. */
-static void clear_overlays(const char *dir) {
-    DIR *d = opendir(dir);
-    if (!d) return;
-    for (struct dirent *e; (e = readdir(d)) != NULL;) {
-        const char *dot = strrchr(e->d_name, '.');
-        if (e->d_name[0] == '.' || !dot || strcmp(dot, ".jpg") != 0) continue;
-        char path[PATH_MAX];
-        if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) < (int)sizeof path) unlink(path);
-    }
-    closedir(d);
-}
 
 static void print_summary(const frig_photoset *set, const char *workspace, int overlays) {
     size_t counts[FRIG_PHOTO_OTHER_PERSON + 1] = {0}, faces = 0;
@@ -126,8 +59,7 @@ static void print_summary(const frig_photoset *set, const char *workspace, int o
 int cmd_detect(cli_env *env, int argc, char **argv) {
     const char *workspace = NULL, *cascades = NULL, *model = NULL, *face_models = NULL;
     int overlays = 1, identity = 1, rc = CLI_OK;
-    frig_photoset *set = NULL;
-    if (frig_photoset_create(env->ctx, &set)) return cli_fail(env, "detect");
+    cli_inputs inputs = {0};
     for (int i = 0; i < argc && rc == CLI_OK; i++) {
         const char *a = argv[i];
         int has_value = i + 1 < argc;
@@ -138,13 +70,15 @@ int cmd_detect(cli_env *env, int argc, char **argv) {
         else if (strcmp(a, "--face-models") == 0 && has_value) face_models = argv[++i];
         else if (strcmp(a, "--no-identity") == 0) identity = 0;
         else if (a[0] == '-' && a[1]) rc = cli_usage_error("detect", "unknown or incomplete option '%s'", a);
-        else {
-            struct stat st;
-            rc = stat(a, &st) == 0 && S_ISDIR(st.st_mode) ? add_folder(env, set, a) : add_photo(env, set, a);
-        }
+        else rc = cli_inputs_add("detect", &inputs, a, 0);
     }
     if (rc == CLI_OK && !workspace) rc = cli_usage_error("detect", "no workspace given (-w DIR)");
-    if (rc == CLI_OK && frig_photoset_count(set) == 0) rc = cli_usage_error("detect", "no photos given");
+    if (rc == CLI_OK && inputs.count == 0) rc = cli_usage_error("detect", "no photos given");
+    frig_photoset *set = NULL;
+    if (rc == CLI_OK && frig_photoset_create(env->ctx, &set)) rc = cli_fail(env, "detect");
+    for (size_t i = 0; rc == CLI_OK && i < inputs.count; i++)
+        if (frig_photoset_add(env->ctx, set, inputs.items[i].path, NULL)) rc = cli_fail(env, "detect");
+    cli_inputs_free(&inputs);
     frig_detector *det = NULL;
     if (rc == CLI_OK && frig_detector_create_with(env->ctx, cascades, model, face_models, &det))
         rc = cli_fail(env, "detect");
@@ -159,7 +93,7 @@ int cmd_detect(cli_env *env, int argc, char **argv) {
         if (snprintf(dir, sizeof dir, "%s/overlays/detect", workspace) >= (int)sizeof dir) {
             rc = cli_usage_error("detect", "workspace path too long");
         } else {
-            clear_overlays(dir);
+            cli_clear_jpegs(dir);
             if (frig_detect_write_overlays(env->ctx, set, dir)) rc = cli_fail(env, "detect");
         }
     }

@@ -14,17 +14,19 @@
 const char cmd_model_usage[] =
     "usage: frig model import-ict DIR [-o FILE]\n"
     "       frig model info [--model FILE]\n"
-    "       frig model export [--model FILE] [--identity JSON] -o OUT\n"
+    "       frig model export [--model FILE] [--identity JSON] [--texture PNG] -o OUT|NAME.glb\n"
     "\n"
     "import-ict  read an ICT-FaceKit folder (generic_neutral_mesh.obj, identity000..099.obj,\n"
     "            the expression OBJs, vertex_indices.json) and write the binary model file\n"
     "            (default: the default model path below); prints the file's size.\n"
     "info        counts, regions and expression names of a model file.\n"
     "export      write OUT/rig.glb (glTF 2.0, ARKit-named morph targets) and OUT/shapes/*.obj\n"
-    "            (neutral.obj + one OBJ per blendshape + frig.mtl); prints the target names\n"
+    "            (neutral.obj + one OBJ per blendshape + frig.mtl + textures), or with -o\n"
+    "            NAME.glb that file and NAME_shapes/ beside it; prints the target names\n"
     "            and the ARKit names the model cannot provide. --identity takes a JSON file\n"
     "            {\"identity\": [w0, w1, ...]} of identity weights in standard deviations\n"
-    "            (missing values are 0; without it, the mean face).\n"
+    "            (missing values are 0; without it, the mean face). --texture: the face's\n"
+    "            base-colour PNG in ICT's face UV layout (embedded in the glTF, beside the OBJs).\n"
     "\n"
     "The model is --model FILE, else $FRIG_MODEL, else $XDG_DATA_HOME/frig/ict.frigmodel,\n"
     "else ~/.local/share/frig/ict.frigmodel.\n";
@@ -135,14 +137,15 @@ static int read_identity(const char *path, double *w, int count) {
 }
 
 static int export_cmd(cli_env *env, int argc, char **argv) {
-    const char *given = NULL, *identity = NULL, *out = NULL;
+    const char *given = NULL, *identity = NULL, *out = NULL, *texture = NULL;
     for (int i = 0; i < argc; i++) {
         if (strcmp(argv[i], "--model") == 0 && i + 1 < argc) given = argv[++i];
+        else if (strcmp(argv[i], "--texture") == 0 && i + 1 < argc) texture = argv[++i];
         else if (strcmp(argv[i], "--identity") == 0 && i + 1 < argc) identity = argv[++i];
         else if (strcmp(argv[i], "-o") == 0 && i + 1 < argc) out = argv[++i];
         else return cli_usage_error("model export", "unknown argument '%s'", argv[i]);
     }
-    if (!out) return cli_usage_error("model export", "no output folder given (-o OUT)");
+    if (!out) return cli_usage_error("model export", "no output given (-o FOLDER or -o NAME.glb)");
     frig_model *m = NULL;
     int rc = cli_load_model(env, "model", given, &m);
     if (rc) return rc;
@@ -152,7 +155,7 @@ static int export_cmd(cli_env *env, int argc, char **argv) {
     if (!w) rc = cli_usage_error("model export", "out of memory");
     if (!rc && identity) rc = read_identity(identity, w, k);
     if (!rc && frig_rig_from_model(env->ctx, m, w, &rig)) rc = cli_fail(env, "model export");
-    if (!rc) rc = cli_export_rig(env, "model export", rig, out);
+    if (!rc) rc = cli_export_rig(env, "model export", rig, out, texture);
     frig_rig_free(rig);
     free(w);
     frig_model_free(m);

@@ -1,8 +1,12 @@
-/* Pieces several subcommands share: folders, writing a rig for users. */
+/* Pieces several subcommands share: folders, where a rig goes and writing it for users. */
+#include <dirent.h>
 #include <errno.h>
+#include <limits.h>
 #include <stdio.h>
 #include <string.h>
+#include <strings.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "cli.h"
 
@@ -25,14 +29,52 @@ int cli_make_dir(cli_env *env, const char *path) {
     return CLI_OK;
 }
 
-int cli_export_rig(cli_env *env, const char *cmd, const frig_rig *rig, const char *out) {
-    char path[4096];
-    if ((size_t)snprintf(path, sizeof path, "%s/shapes", out) >= sizeof path)
-        return cli_usage_error(cmd, "output path too long");
-    if (frig_rig_save_obj(env->ctx, rig, path)) return cli_fail(env, cmd);
-    snprintf(path, sizeof path, "%s/rig.glb", out);
-    if (frig_rig_save_gltf(env->ctx, rig, path)) return cli_fail(env, cmd);
-    printf("%s/rig.glb and %s/shapes/ (neutral.obj + %d shapes)\n", out, out, frig_rig_target_count(rig));
+void cli_clear_jpegs(const char *dir) {
+    DIR *d = opendir(dir);
+    if (!d) return;
+    for (struct dirent *e; (e = readdir(d)) != NULL;) {
+        const char *dot = strrchr(e->d_name, '.');
+        if (e->d_name[0] == '.' || !dot || strcmp(dot, ".jpg") != 0) continue;
+        char path[PATH_MAX];
+        if (snprintf(path, sizeof path, "%s/%s", dir, e->d_name) < (int)sizeof path) unlink(path);
+    }
+    closedir(d);
+}
+
+int cli_rig_paths_of(const char *cmd, const char *out, cli_rig_paths *p) {
+    size_t n = strlen(out);
+    const char *dot = strrchr(out, '.'), *slash = strrchr(out, '/');
+    struct stat st;
+    int named = dot && (!slash || dot > slash) && dot != out && dot[-1] != '/' &&
+                !(stat(out, &st) == 0 && S_ISDIR(st.st_mode)); /* an existing folder "a.b" stays a folder */
+    if (named && strcasecmp(dot, ".glb") != 0)
+        return cli_usage_error(cmd, "-o %s: frig writes binary glTF; give a NAME.glb or a folder", out);
+    if (named) {
+        if (n + 1 > sizeof p->glb || (size_t)(dot - out) + 8 > sizeof p->shapes)
+            return cli_usage_error(cmd, "output path too long");
+        snprintf(p->glb, sizeof p->glb, "%s", out);
+        snprintf(p->shapes, sizeof p->shapes, "%.*s_shapes", (int)(dot - out), out);
+        snprintf(p->folder, sizeof p->folder, "%.*s", slash ? (int)(slash - out) : 1, slash ? out : ".");
+        if (slash == out) snprintf(p->folder, sizeof p->folder, "/");
+    } else {
+        if (n + 16 > sizeof p->glb) return cli_usage_error(cmd, "output path too long");
+        snprintf(p->glb, sizeof p->glb, "%s/rig.glb", out);
+        snprintf(p->shapes, sizeof p->shapes, "%s/shapes", out);
+        snprintf(p->folder, sizeof p->folder, "%s", out);
+    }
+    return CLI_OK;
+}
+
+int cli_export_rig(cli_env *env, const char *cmd, frig_rig *rig, const char *out, const char *texture) {
+    cli_rig_paths p;
+    int rc = cli_rig_paths_of(cmd, out, &p);
+    if (rc) return rc;
+    if (texture && frig_rig_set_face_texture(env->ctx, rig, texture)) return cli_fail(env, cmd);
+    if (cli_make_dir(env, p.folder)) return CLI_FAILED;
+    if (frig_rig_save_obj(env->ctx, rig, p.shapes)) return cli_fail(env, cmd);
+    if (frig_rig_save_gltf(env->ctx, rig, p.glb)) return cli_fail(env, cmd);
+    printf("%s and %s/ (neutral.obj + %d shapes)%s%s\n", p.glb, p.shapes, frig_rig_target_count(rig),
+           texture ? "; face texture " : "", texture ? texture : "");
     printf("targets (%d):", frig_rig_target_count(rig));
     for (int i = 0; i < frig_rig_target_count(rig); i++) printf(" %s", frig_rig_target_name(rig, i));
     printf("\nARKit names not provided:");

@@ -42,6 +42,16 @@ int cli_usage_error(const char *cmd, const char *fmt, ...) {
     return CLI_USAGE;
 }
 
+int cli_fail_msg(const char *cmd, const char *fmt, ...) {
+    va_list ap;
+    va_start(ap, fmt);
+    fprintf(stderr, "frig %s: ", cmd);
+    vfprintf(stderr, fmt, ap);
+    fputc('\n', stderr);
+    va_end(ap);
+    return CLI_FAILED;
+}
+
 int cli_fail(cli_env *env, const char *cmd) {
     if (env->progress_shown) fputc('\n', stderr), env->progress_shown = 0;
     fprintf(stderr, "frig %s: %s\n", cmd, frig_ctx_errmsg(env->ctx));

@@ -3,14 +3,15 @@
 #   scripts/install-deps.sh          build dependencies and the data files (dlib, OpenCV, face-api's
 #                                    networks into /usr/local/share/frig/face-api/model)
 #   scripts/install-deps.sh --test   also the reference tools the test suite compares against
-#                                    (dlib, OpenCV's Python module, Blender, the glTF validator)
+#                                    (dlib, OpenCV's Python module, Blender, the glTF validator,
+#                                    ffmpeg for video input, Chromium for the HTML report)
 set -euo pipefail
 SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 
 build_pkgs="build-essential cmake pkg-config libopenblas-dev liblapacke-dev libsuitesparse-dev
   libpng-dev libjpeg62-turbo-dev libcjson-dev zlib1g-dev libdlib-data opencv-data nodejs npm"
-test_pkgs="libdlib-dev python3-opencv python3-numpy blender binutils abigail-tools"
+test_pkgs="libdlib-dev python3-opencv python3-numpy blender binutils abigail-tools ffmpeg chromium"
 
 want="$build_pkgs"
 if [ "${1:-}" = "--test" ]; then want="$want $test_pkgs"; fi

@@ -116,6 +116,11 @@ check '[ $(ls "$ws/overlays/detect" | wc -l) = 1 ]'
 check 'grep -q "no workspace" "$tmp/err"'
 "$F" --set detect.detector=1 --set detect.descriptors=0 detect -w "$ws" 2> /dev/null; check '[ $? = 2 ]'
 "$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in/notes.txt" -w "$tmp/ws3" > /dev/null; check '[ $? = 0 ]'   # named directly: tried, unreadable
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in/a_blair.jpg" "$in/no_such.jpg" -w "$tmp/ws6" 2> "$tmp/err"; check '[ $? = 1 ]'  # missing: an error
+check 'grep -q "no_such.jpg: no such file or folder" "$tmp/err" && [ ! -e "$tmp/ws6/report.json" ]'
+: > "$tmp/clip.mp4"
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$tmp/clip.mp4" -w "$tmp/ws6" 2> "$tmp/err"; check '[ $? = 1 ]'
+check 'grep -q "clip.mp4 is a video: frig run samples frames" "$tmp/err"'
 check 'grep -q "\"unreadable\"" "$tmp/ws3/report.json"'
 "$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in/a_blair.jpg" -w "$tmp/ws2" --cascades "$tmp/nowhere" 2> "$tmp/err"; check '[ $? = 1 ]'
 check 'grep -q "opencv-data" "$tmp/err"'

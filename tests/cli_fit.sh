@@ -60,6 +60,14 @@ check '[ -s "$tmp/ws/rig/rig.frigrig" ]'
 check '[ $? = 0 ]'
 check '[ -s "$tmp/out/rig.glb" ] && [ -s "$tmp/out/shapes/neutral.obj" ] && [ -s "$tmp/out/shapes/jawOpen.obj" ]'
 check 'grep -q "ARKit names not provided: tongueOut" "$tmp/exp"'
+# WORKSPACE/textures/albedo.png (the sfs stage's) becomes the face's texture; --no-texture skips it.
+mkdir -p "$tmp/ws/textures" && python3 "$FRIG_SOURCE_DIR/tests/scripts/make_png.py" "$tmp/ws/textures/albedo.png" 64 64
+"$F" --quiet export -w "$tmp/ws" -o "$tmp/tex.glb" > "$tmp/exp"
+check '[ $? = 0 ] && grep -q "face texture .*albedo.png" "$tmp/exp" && cmp -s "$tmp/ws/textures/albedo.png" "$tmp/tex_shapes/frig_face.png"'
+check '! cmp -s "$tmp/tex.glb" "$tmp/out/rig.glb"'
+"$F" --quiet export -w "$tmp/ws" -o "$tmp/notex.glb" --no-texture > /dev/null
+check 'cmp -s "$tmp/notex.glb" "$tmp/out/rig.glb" && [ ! -e "$tmp/notex_shapes/frig_face.png" ]'
+rm -r "$tmp/ws/textures"
 # Without the rig file, export makes the rig from the model and the fitted identity: same glb.
 mv "$tmp/ws/rig/rig.frigrig" "$tmp/rig.bak"
 "$F" --quiet export -w "$tmp/ws" -o "$tmp/out2" --model "$M" > /dev/null

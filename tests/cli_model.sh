@@ -45,6 +45,15 @@ echo '{"identity": [1, "x"]}' > "$tmp/bad.json"
 "$F" model export --model "$FRIG_TEST_MODEL" --identity "$tmp/bad.json" -o "$tmp/x" 2>"$tmp/err"; check '[ $? = 2 ]'
 check 'grep -q "identity weight 1 is not a number" "$tmp/err"'
 "$F" model export --model "$FRIG_TEST_MODEL" 2>/dev/null; check '[ $? = 2 ]'
+# -o NAME.glb writes that file and NAME_shapes/ beside it (not a folder named NAME.glb).
+"$F" --quiet model export --model "$FRIG_TEST_MODEL" -o "$tmp/named/face.glb" > "$tmp/named.out"; check '[ $? = 0 ]'
+check '[ -f "$tmp/named/face.glb" ] && [ -f "$tmp/named/face_shapes/neutral.obj" ] && [ -f "$tmp/named/face_shapes/frig_iris_left.png" ]'
+check 'cmp -s "$tmp/named/face.glb" "$tmp/mean/rig.glb"'
+check 'grep -q "^$tmp/named/face.glb and $tmp/named/face_shapes/ " "$tmp/named.out"'
+"$F" model export --model "$FRIG_TEST_MODEL" -o "$tmp/named/face.gltf" 2>"$tmp/err"; check '[ $? = 2 ]'
+check 'grep -q "give a NAME.glb or a folder" "$tmp/err"'
+# The MTL names the painted textures and the overlays' transparency.
+check 'grep -q "^map_Kd frig_sclera_left.png$" "$tmp/mean/shapes/frig.mtl" && grep -q "^d 0.12$" "$tmp/mean/shapes/frig.mtl"'
 
 # An edited folder: a missing expression file fails with the file's name.
 mkdir -p "$tmp/edited" && ln -s "$ict"/* "$tmp/edited/" && rm "$tmp/edited/mouthPucker.obj"

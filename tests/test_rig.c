@@ -10,7 +10,10 @@
 #include "core/context.h"
 #include "model/model.h"
 #include "model/obj_reader.h"
+#include "image/image.h"
+#include "mesh/eye_frame.h"
 #include "model_fixture.h"
+#include "rig/look.h"
 #include "rig/rig.h"
 #include "testing.h"
 
@@ -194,25 +197,69 @@ static int parse_glb(const char *path, glb *g) {
     return g->json != NULL;
 }
 
-/* The expected primitive vertices: distinct (vertex, uv) pairs of the material's triangles
- * in order of first use. */
-static int expected_vertices(const fr_topology *t, int material, int32_t *vmap, int32_t *uvmap) {
+/* The expected primitive vertices: first every vertex the material's triangles use, in ICT's
+ * order, with the UV of its first corner; then the other (vertex, uv) pairs in order of first
+ * use. Returns the count; *first gets how many come first. */
+static int expected_vertices(const fr_topology *t, int material, int32_t *vmap, int32_t *uvmap, int *first) {
+    int32_t *first_uv = malloc(sizeof *first_uv * (size_t)t->vertex_count);
+    for (int v = 0; v < t->vertex_count; v++) first_uv[v] = -1;
+    for (int i = 0; i < t->triangle_count; i++)
+        for (int c = 0; t->triangle_materials[i] == material && c < 3; c++)
+            if (first_uv[t->triangles[3 * i + c]] < 0) first_uv[t->triangles[3 * i + c]] = t->triangle_uvs[3 * i + c];
     int n = 0;
+    for (int v = 0; v < t->vertex_count; v++)
+        if (first_uv[v] >= 0) vmap[n] = v, uvmap[n] = first_uv[v], n++;
+    *first = n;
     for (int i = 0; i < t->triangle_count; i++) {
         if (t->triangle_materials[i] != material) continue;
         for (int c = 0; c < 3; c++) {
             int32_t v = t->triangles[3 * i + c], uv = t->triangle_uvs[3 * i + c], j;
-            for (j = n - 1; j >= 0 && !(vmap[j] == v && uvmap[j] == uv); j--) {
-                if (n - j > 64) { /* long scan: fall back to a full search */
-                    for (j = 0; j < n && !(vmap[j] == v && uvmap[j] == uv); j++) {}
-                    if (j == n) j = -1;
-                    break;
-                }
-            }
-            if (j < 0) vmap[n] = v, uvmap[n] = uv, n++;
+            if (uv == first_uv[v]) continue;
+            for (j = *first; j < n && !(vmap[j] == v && uvmap[j] == uv); j++) {}
+            if (j == n) vmap[n] = v, uvmap[n] = uv, n++;
         }
     }
+    free(first_uv);
     return n;
+}
+
+/* A material by name (NULL when absent) and the PNG bytes of its base-colour texture. */
+static const cJSON *material(const glb *g, const char *name) {
+    const cJSON *m;
+    cJSON_ArrayForEach(m, item(g->json, "materials")) if (strcmp(item(m, "name")->valuestring, name) == 0) return m;
+    return NULL;
+}
+
+static const unsigned char *material_png(const glb *g, const char *name, size_t *size) {
+    const cJSON *m = material(g, name), *tex = item(item(item(m, "pbrMetallicRoughness"), "baseColorTexture"), "index");
+    if (!tex) return NULL;
+    const cJSON *texture = cJSON_GetArrayItem(item(g->json, "textures"), (int)tex->valuedouble);
+    const cJSON *image = cJSON_GetArrayItem(item(g->json, "images"), num(texture, "source"));
+    const cJSON *view = cJSON_GetArrayItem(item(g->json, "bufferViews"), num(image, "bufferView"));
+    CHECK(strcmp(item(image, "mimeType")->valuestring, "image/png") == 0);
+    *size = (size_t)num(view, "byteLength");
+    return g->bin + num(view, "byteOffset");
+}
+
+static const char *alpha_mode(const glb *g, const char *name) {
+    const cJSON *a = item(material(g, name), "alphaMode");
+    return a ? a->valuestring : "OPAQUE";
+}
+
+/* Painted eyes: sclera masked (its cornea shows the iris), the overlays and lashes blended,
+ * every painted texture a PNG. */
+static void test_gltf_materials(const glb *g) {
+    static const char *const painted[] = {"M_ScleraLeft", "M_ScleraRight", "M_IrisLeft",   "M_IrisRight",
+                                          "M_EyeBlend",   "M_EyeOcclusion", "M_EyeLashes"};
+    for (size_t i = 0; i < sizeof painted / sizeof painted[0]; i++) {
+        size_t n = 0;
+        const unsigned char *png = material_png(g, painted[i], &n);
+        CHECK(png && n > 100 && memcmp(png, "\x89PNG\r\n\x1a\n", 8) == 0);
+    }
+    CHECK(strcmp(alpha_mode(g, "M_ScleraLeft"), "MASK") == 0 && strcmp(alpha_mode(g, "M_IrisLeft"), "OPAQUE") == 0);
+    CHECK(strcmp(alpha_mode(g, "M_LacrimalFluid"), "BLEND") == 0 && strcmp(alpha_mode(g, "M_EyeOcclusion"), "BLEND") == 0);
+    CHECK(strcmp(alpha_mode(g, "M_EyeBlend"), "BLEND") == 0 && strcmp(alpha_mode(g, "M_EyeLashes"), "BLEND") == 0);
+    CHECK(strcmp(alpha_mode(g, "M_Face"), "OPAQUE") == 0);
 }
 
 static void test_gltf(frig_ctx *ctx, const frig_rig *r, const char *tmp) {
@@ -243,15 +290,20 @@ static void test_gltf(frig_ctx *ctx, const frig_rig *r, const char *tmp) {
     int32_t *vmap = malloc(sizeof *vmap * 3 * (size_t)t->triangle_count), *uvmap = malloc(sizeof *uvmap * 3 * (size_t)t->triangle_count);
     float *pos = malloc(sizeof *pos * 9 * (size_t)t->triangle_count), *d = malloc(sizeof *d * 9 * (size_t)t->triangle_count);
     const float *jd = frig_rig_shape_deltas(r, frig_rig_shape_find(r, "jawOpen"));
-    int triangles = 0, vertices = 0, mismatches = 0;
+    int triangles = 0, vertices = 0, mismatches = 0, order_errors = 0;
     const cJSON *p;
     cJSON_ArrayForEach(p, prims) {
         int mat = num(p, "material");
         const char *mname = item(cJSON_GetArrayItem(item(g.json, "materials"), mat), "name")->valuestring;
         int m = 0;
         while (m < t->material_count && strcmp(t->material_names[m], mname) != 0) m++;
-        int n = expected_vertices(t, m, vmap, uvmap);
+        int first, n = expected_vertices(t, m, vmap, uvmap, &first);
         const cJSON *attr = item(p, "attributes");
+        /* ICT's vertices first, in ICT's order; extras map every vertex to its ICT index */
+        const cJSON *ex = item(p, "extras"), *map = item(ex, "ictVertexIndex");
+        CHECK(num(ex, "ictVertexCount") == first && cJSON_GetArraySize(map) == n);
+        for (int i = 0; i < n && i < cJSON_GetArraySize(map); i++) order_errors += (int)cJSON_GetArrayItem(map, i)->valuedouble != vmap[i];
+        for (int i = 1; i < first; i++) order_errors += vmap[i] <= vmap[i - 1];
         const cJSON *idx = cJSON_GetArrayItem(item(g.json, "accessors"), num(p, "indices"));
         triangles += num(idx, "count") / 3;
         vertices += n;
@@ -262,12 +314,136 @@ static void test_gltf(frig_ctx *ctx, const frig_rig *r, const char *tmp) {
             for (int k = 0; k < 3; k++)
                 mismatches += pos[3 * i + k] != r->neutral[3 * vmap[i] + k] || d[3 * i + k] != jd[3 * vmap[i] + k];
     }
-    printf("glb: %zu bytes, %d primitives, %d triangles, %d vertices, %d mismatching jawOpen values\n", g.size,
-           cJSON_GetArraySize(prims), triangles, vertices, mismatches);
-    CHECK(triangles == t->triangle_count && mismatches == 0);
+    printf("glb: %zu bytes, %d primitives, %d triangles, %d vertices, %d mismatching jawOpen values, %d vertex "
+           "order errors\n",
+           g.size, cJSON_GetArraySize(prims), triangles, vertices, mismatches, order_errors);
+    CHECK(triangles == t->triangle_count && mismatches == 0 && order_errors == 0);
+    test_gltf_materials(&g);
     free(vmap), free(uvmap), free(pos), free(d);
     cJSON_Delete(g.json);
     free(g.file);
+}
+
+/* The eye textures libfrig paints, read at the UVs of known vertices: the iris is dark at the
+ * pupil (the vertex nearest the gaze axis) and iris-coloured half-way out; the sclera is clear
+ * over the cornea's apex and opaque behind the eye. */
+static void test_eye_textures(frig_ctx *ctx, const frig_rig *r) {
+    fr_rig_look look;
+    CHECK(fr_rig_look_make(ctx, r, &look) == FRIG_OK);
+    const fr_topology *t = &r->topo;
+    int iris = fr_topology_material(t, "M_IrisLeft"), sclera = fr_topology_material(t, "M_ScleraLeft");
+    CHECK(iris >= 0 && sclera >= 0 && look.materials[iris].texture >= 0 && look.materials[sclera].texture >= 0);
+    if (iris < 0 || sclera < 0 || look.materials[iris].texture < 0 || look.materials[sclera].texture < 0) return;
+    double c[3], a[3];
+    CHECK(fr_eye_frame(t, r->neutral, "eyeball_left", c, a));
+    /* per material: the uv of the vertex with the largest "along" (the apex; for the iris the front
+     * vertex nearest the axis), and of the front vertex closest to half the iris radius (2.9 mm)
+     * from the axis */
+    for (int pass = 0; pass < 2; pass++) {
+        int m = pass ? sclera : iris, apex_uv = -1, mid_uv = -1, back_uv = -1;
+        double best_along = -1, best_mid = 1, best_back = 1, best_r = 1;
+        for (int i = 0; i < t->triangle_count; i++) {
+            if (t->triangle_materials[i] != m) continue;
+            for (int k = 0; k < 3; k++) {
+                const float *p = r->neutral + 3 * (size_t)t->triangles[3 * i + k];
+                double d[3] = {p[0] - c[0], p[1] - c[1], p[2] - c[2]}, along = d[0] * a[0] + d[1] * a[1] + d[2] * a[2];
+                double rr = sqrt(fmax(0, d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - along * along));
+                if (pass && along > best_along) best_along = along, apex_uv = t->triangle_uvs[3 * i + k];
+                if (!pass && along > 0.008 && rr < best_r) best_r = rr, apex_uv = t->triangle_uvs[3 * i + k];
+                if (along > 0.008 && fabs(rr - 0.0029) < best_mid) best_mid = fabs(rr - 0.0029), mid_uv = t->triangle_uvs[3 * i + k];
+                if (along < best_back) best_back = along, back_uv = t->triangle_uvs[3 * i + k];
+            }
+        }
+        const fr_texture *tex = &look.textures[look.materials[m].texture];
+        double apex[4], mid[4], back[4];
+        fr_texture_sample(tex, t->uvs[2 * apex_uv], t->uvs[2 * apex_uv + 1], apex);
+        fr_texture_sample(tex, t->uvs[2 * mid_uv], t->uvs[2 * mid_uv + 1], mid);
+        fr_texture_sample(tex, t->uvs[2 * back_uv], t->uvs[2 * back_uv + 1], back);
+        printf("%s texture: apex rgba %.2f %.2f %.2f %.2f, mid-iris %.2f %.2f %.2f, back alpha %.2f\n",
+               pass ? "sclera" : "iris", apex[0], apex[1], apex[2], apex[3], mid[0], mid[1], mid[2], back[3]);
+        if (!pass) {
+            CHECK(apex[0] < 0.1 && apex[1] < 0.1 && apex[2] < 0.1); /* pupil */
+            CHECK(mid[0] > 0.2 && mid[0] > mid[2] + 0.08);           /* brown iris */
+        } else {
+            CHECK(apex[3] < 0.01 && back[3] > 0.99 && back[0] > 0.6); /* clear cornea, white opaque sclera */
+        }
+    }
+    fr_rig_look_free(&look);
+}
+
+/* export.eye_overlays 0 leaves the three overlays out of glTF and OBJ (their vertices stay);
+ * a face texture is embedded byte for byte, copied beside the OBJ files and named in the MTL. */
+static void test_options(frig_ctx *ctx, const frig_rig *r0, const char *tmp) {
+    frig_rig *r = NULL;
+    CHECK(frig_rig_clone(ctx, r0, &r) == FRIG_OK);
+    if (!r) return;
+    /* a 64 x 32 PNG made here */
+    uint8_t px[64 * 32 * 3];
+    for (int i = 0; i < 64 * 32; i++) px[3 * i] = (uint8_t)(4 * (i % 64)), px[3 * i + 1] = (uint8_t)(8 * (i / 64)), px[3 * i + 2] = 90;
+    unsigned char *png = NULL;
+    size_t png_size = 0;
+    CHECK(fr_png_encode_pixels(ctx, 64, 32, 3, 64 * 3, px, &png, &png_size) == FRIG_OK);
+    char path[8400], glbp[4200], dir[4200];
+    snprintf(path, sizeof path, "%s/albedo.png", tmp);
+    snprintf(glbp, sizeof glbp, "%s/rig.glb", tmp);
+    snprintf(dir, sizeof dir, "%s/shapes", tmp);
+    FILE *fp = fopen(path, "wb");
+    fwrite(png, 1, png_size, fp);
+    fclose(fp);
+    char bad[4200];
+    snprintf(bad, sizeof bad, "%s/nothing.png", tmp);
+    CHECK(frig_rig_set_face_texture(ctx, r, bad) == FRIG_ERR_NOT_FOUND && !frig_rig_has_face_texture(r));
+    snprintf(bad, sizeof bad, "%s/rig.glb", tmp);
+    fp = fopen(bad, "wb");
+    fputs("not a png at all", fp);
+    fclose(fp);
+    CHECK(frig_rig_set_face_texture(ctx, r, bad) == FRIG_ERR_UNSUPPORTED && strstr(frig_ctx_errmsg(ctx), "PNG"));
+    CHECK(frig_rig_set_face_texture(ctx, r, path) == FRIG_OK && frig_rig_has_face_texture(r));
+    frig_rig *c = NULL;
+    CHECK(frig_rig_clone(ctx, r, &c) == FRIG_OK && frig_rig_has_face_texture(c));
+    frig_rig_free(c);
+    frig_param ov;
+    CHECK(frig_param_lookup(ctx, "export.eye_overlays", &ov) == FRIG_OK);
+    CHECK(frig_ctx_set_param(ctx, ov, 0) == FRIG_OK);
+    CHECK(frig_rig_save_gltf(ctx, r, glbp) == FRIG_OK && frig_rig_save_obj(ctx, r, dir) == FRIG_OK);
+    CHECK(frig_ctx_set_param(ctx, ov, 1) == FRIG_OK);
+    glb g;
+    if (parse_glb(glbp, &g)) {
+        CHECK(cJSON_GetArraySize(item(cJSON_GetArrayItem(item(g.json, "meshes"), 0), "primitives")) == 9);
+        CHECK(!material(&g, "M_LacrimalFluid") && !material(&g, "M_EyeBlend") && !material(&g, "M_EyeOcclusion"));
+        size_t n = 0;
+        const unsigned char *face = material_png(&g, "M_Face", &n);
+        CHECK(face && n == png_size && memcmp(face, png, n) == 0);
+        const cJSON *f = cJSON_GetArrayItem(item(item(material(&g, "M_Face"), "pbrMetallicRoughness"), "baseColorFactor"), 0);
+        CHECK(f && f->valuedouble == 1.0);
+        /* the back of the head takes the texture's colour where face and head meet (linear):
+         * red 4 * x over x in 0..63 is between 0 and 252, blue 90 everywhere */
+        const cJSON *hb = item(item(material(&g, "M_BackHead"), "pbrMetallicRoughness"), "baseColorFactor");
+        CHECK_NEAR(cJSON_GetArrayItem(hb, 2)->valuedouble, pow((90 / 255.0 + 0.055) / 1.055, 2.4), 0.01);
+        cJSON_Delete(g.json);
+        free(g.file);
+    } else {
+        CHECK(!"the glb parses");
+    }
+    snprintf(path, sizeof path, "%s/frig_face.png", dir);
+    size_t n;
+    unsigned char *copy = test_read_file(path, &n);
+    CHECK(copy && n == png_size && memcmp(copy, png, n) == 0);
+    free(copy);
+    snprintf(path, sizeof path, "%s/frig.mtl", dir);
+    char *mtl = (char *)test_read_file(path, &n);
+    CHECK(mtl && strstr(mtl, "newmtl M_Face\nKd 1 1 1\n") && strstr(mtl, "map_Kd frig_face.png") &&
+          strstr(mtl, "map_d frig_sclera_left.png") && !strstr(mtl, "M_EyeOcclusion"));
+    free(mtl);
+    snprintf(path, sizeof path, "%s/neutral.obj", dir);
+    char *obj = (char *)test_read_file(path, &n);
+    CHECK(obj && !strstr(obj, "usemtl M_LacrimalFluid") && strstr(obj, "usemtl M_EyeLashes"));
+    int v = 0;
+    for (const char *q = obj; q && (q = strstr(q, "\nv ")); q++) v++;
+    CHECK(v == r->topo.vertex_count); /* every ICT vertex is still there */
+    free(obj);
+    free(png);
+    frig_rig_free(r);
 }
 
 static void test_ply(frig_ctx *ctx, const char *tmp) {
@@ -314,6 +490,8 @@ int main(void) {
         test_arkit(ctx, r);
         test_obj(ctx, r, test_temp_dir("rig_obj"));
         test_gltf(ctx, r, test_temp_dir("rig_gltf"));
+        test_eye_textures(ctx, r);
+        test_options(ctx, r, test_temp_dir("rig_options"));
     }
     frig_rig_free(r);
     frig_model_free(m);

@@ -167,7 +167,15 @@ typedef enum frig_param {
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */
     FRIG_PARAM_IDENTITY_CLUSTER_RADIUS = 801, /* faces this close count as one person when finding the identity */
     FRIG_PARAM_IDENTITY_MIN_DOMINANCE = 802, /* the subject's cluster must hold this many times the photos of the next */
-    FRIG_PARAM_IDENTITY_PROTOTYPE = 803     /* the identity: 0 the cluster's medoid, 1 the mean of its members (default 1) */
+    FRIG_PARAM_IDENTITY_PROTOTYPE = 803,    /* the identity: 0 the cluster's medoid, 1 the mean of its members (default 1) */
+
+    /* frig run: the whole pipeline (docs/run.md) */
+    FRIG_PARAM_RUN_VIDEO_FRAMES = 900,      /* frames sampled from each video, evenly spread (default 100) */
+    FRIG_PARAM_RUN_MIN_PHOTOS = 901,        /* fewer usable photos stop the run (default 5) */
+
+    /* export: glTF and OBJ files of a rig */
+    FRIG_PARAM_EXPORT_EYE_OVERLAYS = 950,   /* 1: ICT's translucent eye overlays alpha-blended; 0: left out (default 1) */
+    FRIG_PARAM_EXPORT_TEXTURE_SIZE = 951    /* side of the painted eye textures; 0: flat colours (default 512) */
 } frig_param;
 
 FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);

@@ -6,6 +6,7 @@
 #ifndef FRIG_RIG_H
 #define FRIG_RIG_H
 
+#include "frig/image.h"
 #include "frig/model.h"
 
 #ifdef __cplusplus
@@ -53,12 +54,45 @@ FRIG_API int frig_rig_target_count(const frig_rig *rig);
 FRIG_API const char *frig_rig_target_name(const frig_rig *rig, int i);
 
 /* glTF 2.0 binary (.glb): positions in metres, normals, UVs, indices; one morph target per
- * ARKit-named blendshape (mesh.extras.targetNames); separate primitives per material group
- * (face/head, eyes, teeth and mouth, lashes) so users can hide or re-material them. */
+ * ARKit-named blendshape (mesh.extras.targetNames); one primitive per material (face, back of
+ * the head, mouth, teeth, sclera, iris, lashes and ICT's eye overlays) so users can hide or
+ * re-material them. In every primitive the ICT vertices it uses come first, in ICT's order,
+ * and the copies made at UV seams after them; primitive.extras.ictVertexIndex gives each
+ * vertex's ICT index (ictVertexCount: how many come first). Sclera and iris get base-colour
+ * textures libfrig paints (export.texture_size), ICT's translucent eye overlays (tear film,
+ * eye blend, eye occlusion) are alpha-blended (export.eye_overlays 0 leaves them out), and the
+ * face primitive uses the face texture when one is set (frig_rig_set_face_texture). */
 FRIG_API frig_status frig_rig_save_gltf(frig_ctx *ctx, const frig_rig *rig, const char *path);
 /* OBJ: DIR/neutral.obj, DIR/<shape>.obj per blendshape (full shape, ICT vertex order, ARKit
- * names), DIR/frig.mtl. The folder is created if needed. */
+ * names), DIR/frig.mtl (colours, transparency, map_Kd / map_d) and the textures beside them
+ * (frig_*.png). The folder is created if needed. */
 FRIG_API frig_status frig_rig_save_obj(frig_ctx *ctx, const frig_rig *rig, const char *dir);
+
+/* The face's base-colour texture for the writers and the renderer: a PNG in ICT's face UV
+ * layout (sRGB, rows from the top; texel (x, y) of a W x H image lies at
+ * uv = ((x + 0.5) / W, 1 - (y + 0.5) / H)), e.g. the albedo the sfs stage writes to
+ * WORKSPACE/textures/albedo.png. The file is checked and its bytes kept in the rig (glTF
+ * embeds them unchanged; OBJ export copies them to DIR/frig_face.png); the rig file written
+ * by frig_rig_save does not hold them. NULL removes the texture. */
+FRIG_API frig_status frig_rig_set_face_texture(frig_ctx *ctx, frig_rig *rig, const char *png_path);
+FRIG_API int frig_rig_has_face_texture(const frig_rig *rig);
+
+/* ---- pictures of a rig (EXPERIMENTAL: may change while FRIG_VERSION_MAJOR is 0) ----
+ * Rendered by libfrig's own rasterizer with the look the writers export (painted eyes,
+ * blended overlays, the face texture or a clay colour): three lights, 3x supersampled. */
+enum {
+    FRIG_FRAME_FACE = 0, /* the face fills the picture */
+    FRIG_FRAME_HEAD = 1  /* the whole head */
+};
+/* weights: frig_rig_shape_count values, or NULL for the neutral. yaw turns the head to its
+ * left (the viewer's right), pitch tips the nose down, in degrees. An RGB image. */
+FRIG_API frig_status frig_rig_render(frig_ctx *ctx, const frig_rig *rig, const double *weights, double yaw_deg,
+                                     double pitch_deg, int framing, int width, int height, frig_image **out);
+/* A PNG contact sheet: the neutral, then every exported blendshape at weight 1 in the
+ * exporters' order (frig_rig_target_name), each a cell x cell picture of the face with its
+ * name under it, 'columns' to a row. Parallel over the pictures. */
+FRIG_API frig_status frig_rig_save_contact_sheet(frig_ctx *ctx, const frig_rig *rig, int cell, int columns,
+                                                 const char *path);
 
 /* Binary little-endian PLY point cloud; normals and confidence may be NULL. */
 FRIG_API frig_status frig_save_ply(frig_ctx *ctx, const char *path, size_t count, const float *xyz,

@@ -111,6 +111,18 @@ static const param_row rows[] = {
     {FRIG_PARAM_IDENTITY_MIN_DOMINANCE, "identity.min_dominance", 1.5, 1, 100, 0,
      "the subject's cluster must hold at least this many times the photos of the next person's, else the set has "
      "no dominant identity and the step stops"},
+
+    /* run (frig run, docs/run.md) */
+    {FRIG_PARAM_RUN_VIDEO_FRAMES, "run.video_frames", 100, 1, 100000, 1,
+     "frames frig run samples from each video file, evenly spread over it (ffmpeg)"},
+    {FRIG_PARAM_RUN_MIN_PHOTOS, "run.min_photos", 5, 1, 100000, 1,
+     "frig run stops when fewer photos than this are usable (the paper's smallest set had 5)"},
+
+    /* export (glTF and OBJ writers) */
+    {FRIG_PARAM_EXPORT_EYE_OVERLAYS, "export.eye_overlays", 1, 0, 1, 1,
+     "1: export ICT's translucent eye overlays (tear film, eye blend, eye occlusion) alpha-blended; 0: leave them out"},
+    {FRIG_PARAM_EXPORT_TEXTURE_SIZE, "export.texture_size", 512, 0, 4096, 1,
+     "side in pixels of the sclera, iris and eye-overlay textures libfrig paints; 0: flat colours"},
 };
 
 #define N_ROWS (sizeof rows / sizeof rows[0])

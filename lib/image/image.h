@@ -38,6 +38,10 @@ frig_status fr_png_decode(frig_ctx *ctx, const char *name, const unsigned char *
 frig_status fr_jpeg_encode(frig_ctx *ctx, const frig_image *img, int quality, int exif_orientation,
                            unsigned char **data, size_t *size);
 frig_status fr_png_encode(frig_ctx *ctx, const frig_image *img, unsigned char **data, size_t *size);
+/* 8-bit rows of 1 (gray), 2 (gray + alpha), 3 (RGB) or 4 (RGBA) channels, 'stride' bytes apart
+ * (textures with alpha, which frig_image does not hold). */
+frig_status fr_png_encode_pixels(frig_ctx *ctx, int width, int height, int channels, size_t stride,
+                                 const uint8_t *pixels, unsigned char **data, size_t *size);
 
 /* EXIF orientation (1-8) from a TIFF-structured EXIF block (starting at "II*\0" or "MM\0*");
  * 0 when absent or unreadable. */

@@ -145,10 +145,16 @@ static void write_fn(png_structp png, png_bytep in, png_size_t n) {
 
 static void flush_fn(png_structp png) { (void)png; }
 
-frig_status fr_png_encode(frig_ctx *ctx, const frig_image *img, unsigned char **data, size_t *size) {
+frig_status fr_png_encode_pixels(frig_ctx *ctx, int width, int height, int channels, size_t stride,
+                                 const uint8_t *pixels, unsigned char **data, size_t *size) {
+    static const int types[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
+                                 PNG_COLOR_TYPE_RGB_ALPHA};
     png_writer w = {NULL, 0, 0, 0};
     *data = NULL;
     *size = 0;
+    if (width <= 0 || height <= 0 || channels < 1 || channels > 4)
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "a PNG of %d x %d pixels with %d channels", width, height,
+                        channels);
     png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, NULL, error_fn, warning_fn);
     if (!png) return fr_nomem(ctx, "a PNG encoder");
     png_infop info = png_create_info_struct(png);
@@ -158,15 +164,18 @@ frig_status fr_png_encode(frig_ctx *ctx, const frig_image *img, unsigned char **
         return w.failed ? fr_nomem(ctx, "PNG data") : fr_error(ctx, FRIG_ERR_INTERNAL, "PNG encoder failed");
     }
     png_set_write_fn(png, &w, write_fn, flush_fn);
-    png_set_IHDR(png, info, (png_uint_32)img->width, (png_uint_32)img->height, 8,
-                 img->channels == 1 ? PNG_COLOR_TYPE_GRAY : PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE,
+    png_set_IHDR(png, info, (png_uint_32)width, (png_uint_32)height, 8, types[channels], PNG_INTERLACE_NONE,
                  PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
     png_set_compression_level(png, 6);
     png_write_info(png, info);
-    for (int y = 0; y < img->height; y++) png_write_row(png, img->pixels + (size_t)y * img->stride);
+    for (int y = 0; y < height; y++) png_write_row(png, pixels + (size_t)y * stride);
     png_write_end(png, info);
     png_destroy_write_struct(&png, &info);
     *data = w.data;
     *size = w.size;
     return FRIG_OK;
+}
+
+frig_status fr_png_encode(frig_ctx *ctx, const frig_image *img, unsigned char **data, size_t *size) {
+    return fr_png_encode_pixels(ctx, img->width, img->height, img->channels, img->stride, img->pixels, data, size);
 }

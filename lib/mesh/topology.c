@@ -133,3 +133,19 @@ void fr_topology_release(fr_topology *t) {
     free((void *)t->region_names);
     t->material_names = t->region_names = NULL;
 }
+
+int fr_topology_region(const fr_topology *t, const char *name, int *first, int *count) {
+    for (int r = 0; r < t->region_count; r++)
+        if (strcmp(t->region_names[r], name) == 0) {
+            *first = t->regions[2 * r];
+            *count = t->regions[2 * r + 1];
+            return *count > 0;
+        }
+    return 0;
+}
+
+int fr_topology_material(const fr_topology *t, const char *name) {
+    for (int m = 0; m < t->material_count; m++)
+        if (strcmp(t->material_names[m], name) == 0) return m;
+    return -1;
+}

@@ -35,6 +35,11 @@ frig_status fr_topology_bind(frig_ctx *ctx, const fr_container *c, fr_topology *
 /* Free what bind allocated (the name arrays). */
 void fr_topology_release(fr_topology *t);
 
+/* The named vertex range (vertices first .. first + count - 1); 0 when absent or empty. */
+int fr_topology_region(const fr_topology *t, const char *name, int *first, int *count);
+/* The material's index by name; -1 when absent. */
+int fr_topology_material(const fr_topology *t, const char *name);
+
 /* Fan-triangulate polygons: triangle count = sum (corners - 2). Outputs are allocated. */
 frig_status fr_triangulate(frig_ctx *ctx, int polygon_count, const int32_t *offsets, const int32_t *corners,
                            const int32_t *corner_uvs, const int32_t *materials, int *triangle_count,

@@ -1,13 +1,18 @@
 /* glTF 2.0 binary (.glb) export of a rig (Khronos glTF 2.0 specification, sections 3.6
- * "Geometry" with morph targets and 4.4 "GLB File Format"): one mesh, one primitive per
- * material, one morph target per ARKit-named shape (POSITION and NORMAL deltas, sparse
- * where most vertices stay put), mesh.extras.targetNames. Bytes are deterministic. */
+ * "Geometry" with morph targets, 3.8-3.9 materials and textures, 4.4 "GLB File Format"): one
+ * mesh, one primitive per material, one morph target per ARKit-named shape (POSITION and
+ * NORMAL deltas, sparse where most vertices stay put), mesh.extras.targetNames. In each
+ * primitive the ICT vertices it uses come first in ICT's order, UV-seam copies after them,
+ * and primitive.extras.ictVertexIndex maps every vertex to its ICT index. Materials and
+ * textures come from the rig's look (look.c): painted eyes, the translucent overlays
+ * alpha-blended (or left out), the face's base-colour texture. Bytes are deterministic. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/context.h"
 #include "io/buffer.h"
 #include "io/file.h"
+#include "rig/look.h"
 #include "rig/rig.h"
 
 enum { GL_UNSIGNED_SHORT = 5123, GL_UNSIGNED_INT = 5125, GL_FLOAT = 5126 };
@@ -18,6 +23,7 @@ enum { GL_ARRAY_BUFFER = 34962, GL_ELEMENT_ARRAY_BUFFER = 34963 };
 typedef struct prim {
     int material;
     int vertex_count, index_count;
+    int ict_count;   /* the first ict_count vertices are distinct ICT vertices in ICT's order */
     int32_t *vertex; /* rig vertex of each glTF vertex */
     int32_t *uv;     /* rig uv of each glTF vertex */
     uint32_t *indices;
@@ -33,6 +39,7 @@ typedef struct writer {
     prim *prims;
     fr_buffer bin, accessors, views;
     int accessor_count, view_count;
+    fr_rig_look look;
 } writer;
 
 static void prims_free(writer *w) {
@@ -44,8 +51,9 @@ static void prims_free(writer *w) {
     free(w->prims);
 }
 
-/* Vertices of one material's triangles: chains head[v] -> next[] of glTF vertices made from
- * rig vertex v, to find an existing (v, uv) pair. */
+/* Vertices of one material's triangles: first every ICT vertex the triangles use, in ICT's
+ * order, with the UV of its first corner; then, in order of first use, a copy for each other
+ * UV a vertex has (the seams). Copies of vertex v chain from head[v] through next[]. */
 static frig_status build_prim(writer *w, int material, int32_t *head, int32_t *next, prim *p) {
     const fr_topology *t = &w->rig->topo;
     int n = 0;
@@ -55,24 +63,46 @@ static frig_status build_prim(writer *w, int material, int32_t *head, int32_t *n
     p->indices = malloc(sizeof *p->indices * (size_t)(3 * n + 1));
     p->vertex = malloc(sizeof *p->vertex * (size_t)(3 * n + 1));
     p->uv = malloc(sizeof *p->uv * (size_t)(3 * n + 1));
-    if (!p->indices || !p->vertex || !p->uv) return fr_nomem(w->ctx, "a glTF primitive");
+    int32_t *first_uv = malloc(sizeof *first_uv * (size_t)t->vertex_count);
+    if (!p->indices || !p->vertex || !p->uv || !first_uv) {
+        free(first_uv);
+        return fr_nomem(w->ctx, "a glTF primitive");
+    }
+    for (int v = 0; v < t->vertex_count; v++) first_uv[v] = -1;
+    for (int i = 0; i < t->triangle_count; i++) {
+        if (t->triangle_materials[i] != material) continue;
+        for (int c = 0; c < 3; c++) {
+            int32_t v = t->triangles[3 * i + c];
+            if (first_uv[v] < 0) first_uv[v] = t->triangle_uvs[3 * i + c];
+        }
+    }
+    for (int v = 0; v < t->vertex_count; v++) {
+        if (first_uv[v] < 0) continue;
+        int g = p->vertex_count++;
+        p->vertex[g] = v;
+        p->uv[g] = first_uv[v];
+        next[g] = -1;
+        head[v] = g;
+    }
+    p->ict_count = p->vertex_count;
     int k = 0;
     for (int i = 0; i < t->triangle_count; i++) {
         if (t->triangle_materials[i] != material) continue;
         for (int c = 0; c < 3; c++) {
             int32_t v = t->triangles[3 * i + c], uv = t->triangle_uvs[3 * i + c], g = head[v];
             while (g >= 0 && p->uv[g] != uv) g = next[g];
-            if (g < 0) {
+            if (g < 0) { /* a seam copy, chained after the vertex's first */
                 g = p->vertex_count++;
                 p->vertex[g] = v;
                 p->uv[g] = uv;
-                next[g] = head[v];
-                head[v] = g;
+                next[g] = next[head[v]];
+                next[head[v]] = g;
             }
             p->indices[k++] = (uint32_t)g;
         }
     }
     for (int g = 0; g < p->vertex_count; g++) head[p->vertex[g]] = -1;
+    free(first_uv);
     return FRIG_OK;
 }
 
@@ -85,6 +115,7 @@ static frig_status build_prims(writer *w) {
     if (!w->prims || !head || !next) s = fr_nomem(w->ctx, "the glTF primitives");
     for (int v = 0; !s && v < t->vertex_count; v++) head[v] = -1;
     for (int m = 0; !s && m < t->material_count; m++) {
+        if (w->look.materials[m].omitted) continue; /* export.eye_overlays 0 */
         prim *p = &w->prims[w->prim_count++];
         s = build_prim(w, m, head, next, p);
         if (!s && p->index_count == 0) { /* an unused material: no primitive */
@@ -267,20 +298,53 @@ static void write_prim(writer *w, const prim *p, int material_slot, fr_buffer *j
         int tn = target_vec3(w, p, w->normal_deltas + n3 * (size_t)k, &zero);
         fr_buffer_printf(json, "%s{\"POSITION\":%d,\"NORMAL\":%d}", k ? "," : "", tp, tn);
     }
-    fr_buffer_append(json, "]}", 2);
+    /* which ICT vertex each glTF vertex is; the first ictVertexCount are ICT's, in order */
+    fr_buffer_printf(json, "],\"extras\":{\"ictVertexCount\":%d,\"ictVertexIndex\":[", p->ict_count);
+    for (int i = 0; i < p->vertex_count; i++) fr_buffer_printf(json, "%s%d", i ? "," : "", p->vertex[i]);
+    fr_buffer_append(json, "]}}", 3);
 }
+
+static const char *const alpha_modes[3] = {"OPAQUE", "MASK", "BLEND"};
 
 static void write_materials(writer *w, fr_buffer *json) {
     const fr_topology *t = &w->rig->topo;
     fr_buffer_append(json, "\"materials\":[", 13);
     for (int i = 0; i < w->prim_count; i++) {
-        const float *kd = t->material_kd + 3 * w->prims[i].material;
-        fr_buffer_printf(json,
-                         "%s{\"name\":\"%s\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[%.6g,%.6g,%.6g,1],"
-                         "\"metallicFactor\":0,\"roughnessFactor\":0.6}}",
-                         i ? "," : "", t->material_names[w->prims[i].material], kd[0], kd[1], kd[2]);
+        const fr_material_look *l = &w->look.materials[w->prims[i].material];
+        fr_buffer_printf(json, "%s{\"name\":\"%s\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[%.6g,%.6g,%.6g,%.6g]",
+                         i ? "," : "", t->material_names[w->prims[i].material], l->base[0], l->base[1], l->base[2],
+                         l->base[3]);
+        if (l->texture >= 0) fr_buffer_printf(json, ",\"baseColorTexture\":{\"index\":%d}", l->texture);
+        fr_buffer_printf(json, ",\"metallicFactor\":0,\"roughnessFactor\":%.6g}", l->roughness);
+        if (l->alpha_mode != FR_ALPHA_OPAQUE) fr_buffer_printf(json, ",\"alphaMode\":\"%s\"", alpha_modes[l->alpha_mode]);
+        if (l->alpha_mode == FR_ALPHA_MASK) fr_buffer_append(json, ",\"alphaCutoff\":0.5", 18);
+        if (l->double_sided) fr_buffer_append(json, ",\"doubleSided\":true", 19);
+        fr_buffer_append(json, "}", 1);
     }
     fr_buffer_append(json, "]", 1);
+}
+
+/* The look's textures: PNG bytes in the binary chunk, one image, one texture each, a shared
+ * sampler (linear, mipmapped, clamped: each UV island has its gutter). */
+static void write_textures(writer *w, fr_buffer *json) {
+    if (!w->look.texture_count) return;
+    fr_buffer images = {0};
+    for (int i = 0; i < w->look.texture_count; i++) {
+        const fr_texture *tex = &w->look.textures[i];
+        size_t start = w->bin.size;
+        fr_buffer_append(&w->bin, tex->png, tex->png_size);
+        int view = add_view(w, start, 0);
+        fr_buffer_printf(&images, "%s{\"name\":\"%.*s\",\"bufferView\":%d,\"mimeType\":\"image/png\"}", i ? "," : "",
+                         (int)(strlen(tex->file) - 4), tex->file, view);
+    }
+    fr_buffer_append(json, ",\"images\":[", 11);
+    fr_buffer_append(json, images.data, images.size);
+    fr_buffer_append(json, "],\"samplers\":[{\"magFilter\":9729,\"minFilter\":9987,\"wrapS\":33071,\"wrapT\":33071}]", 78);
+    fr_buffer_append(json, ",\"textures\":[", 13);
+    for (int i = 0; i < w->look.texture_count; i++) fr_buffer_printf(json, "%s{\"sampler\":0,\"source\":%d}", i ? "," : "", i);
+    fr_buffer_append(json, "]", 1);
+    if (images.failed) w->bin.failed = 1;
+    fr_buffer_free(&images);
 }
 
 static void write_json(writer *w, fr_buffer *json) {
@@ -301,6 +365,7 @@ static void write_json(writer *w, fr_buffer *json) {
     for (int k = 0; k < w->shapes.count; k++) fr_buffer_printf(json, "%s\"%s\"", k ? "," : "", w->shapes.names[k]);
     fr_buffer_append(json, "]}}],", 5);
     write_materials(w, json);
+    write_textures(w, json);
     fr_buffer_append(json, ",\"accessors\":[", 14);
     fr_buffer_append(json, w->accessors.data, w->accessors.size);
     fr_buffer_append(json, "],\"bufferViews\":[", 17);
@@ -338,7 +403,8 @@ frig_status frig_rig_save_gltf(frig_ctx *ctx, const frig_rig *rig, const char *p
     w.rig = rig;
     fr_buffer json = {0};
     frig_status s;
-    if (!(s = fr_export_shapes_make(ctx, rig, &w.shapes)) && !(s = compute_normals(&w)) && !(s = build_prims(&w))) {
+    if (!(s = fr_rig_look_make(ctx, rig, &w.look)) && !(s = fr_export_shapes_make(ctx, rig, &w.shapes)) &&
+        !(s = compute_normals(&w)) && !(s = build_prims(&w))) {
         write_json(&w, &json);
         s = write_glb(&w, &json, path);
     }
@@ -350,5 +416,6 @@ frig_status frig_rig_save_gltf(frig_ctx *ctx, const frig_rig *rig, const char *p
     free(w.normals);
     free(w.normal_deltas);
     fr_export_shapes_free(&w.shapes);
+    fr_rig_look_free(&w.look);
     return s;
 }

@@ -27,8 +27,19 @@ frig_status frig_rig_clone(frig_ctx *ctx, const frig_rig *rig, frig_rig **out) {
     if (!out) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_rig_clone: out is NULL");
     *out = NULL;
     if (!rig) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_rig_clone: no rig");
-    return fr_rig_build(ctx, &rig->topo, rig->shape_count, rig->neutral, rig->deltas, rig->name_blob,
-                        rig->name_blob_size, out);
+    frig_status s = fr_rig_build(ctx, &rig->topo, rig->shape_count, rig->neutral, rig->deltas, rig->name_blob,
+                                 rig->name_blob_size, out);
+    if (!s && rig->face_png) {
+        (*out)->face_png = malloc(rig->face_png_size);
+        if (!(*out)->face_png) {
+            frig_rig_free(*out);
+            *out = NULL;
+            return fr_nomem(ctx, "the rig's face texture");
+        }
+        memcpy((*out)->face_png, rig->face_png, rig->face_png_size);
+        (*out)->face_png_size = rig->face_png_size;
+    }
+    return s;
 }
 
 int frig_rig_vertex_count(const frig_rig *r) { return r ? r->topo.vertex_count : 0; }

@@ -19,6 +19,9 @@ struct frig_rig {
     const char **shape_names;
     const char *name_blob;
     size_t name_blob_size;
+    /* run: the face's base-colour texture (PNG bytes as given; not in the rig file) */
+    unsigned char *face_png;
+    size_t face_png_size;
 };
 
 /* Pack a rig from its parts and bind the image (the one way a rig comes to be). */

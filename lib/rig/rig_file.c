@@ -109,6 +109,7 @@ void frig_rig_free(frig_rig *r) {
     if (!r) return;
     fr_topology_release(&r->topo);
     free((void *)r->shape_names);
+    free(r->face_png);
     free(r->image);
     free(r);
 }

@@ -9,6 +9,7 @@
 #include "core/context.h"
 #include "model/model.h"
 #include "rig/rig.h"
+#include "mesh/eye_frame.h"
 #include "synth/synth.h"
 
 /* Independent streams of a subject's seed. */
@@ -107,36 +108,14 @@ static frig_status add_torso(frig_ctx *ctx, const frig_model *m, frig_synth_subj
     return st;
 }
 
-/* Eyeball centres and gaze axes from the subject's neutral: the axis runs from the eyeball's
- * centroid through the middle of its most forward 5% (the cornea). */
+/* Eyeball centres and gaze axes from the subject's neutral (fr_eye_frame: through the cornea). */
 static void eyes(const frig_model *m, const float *neutral, frig_synth_subject *s) {
     static const char *const names[2] = {"eyeball_left", "eyeball_right"};
     fr_rng rng;
     fr_rng_seed(&rng, fr_seed_mix(s->seed, STREAM_EYES));
     s->iris_radius = 0.0055 + 0.0006 * fr_rng_uniform(&rng);
     s->pupil_radius = 0.0013 + 0.0008 * fr_rng_uniform(&rng);
-    for (int e = 0; e < 2; e++) {
-        int first, count;
-        double *c = s->eye_centre[e], *a = s->eye_axis[e];
-        a[0] = a[1] = 0.0, a[2] = 1.0;
-        if (!fr_synth_region_centroid(m, names[e], neutral, c) || !fr_synth_region(m, names[e], &first, &count))
-            continue;
-        double zmax = -INFINITY, zmin = INFINITY;
-        for (int v = first; v < first + count; v++) {
-            zmax = fmax(zmax, neutral[3 * (size_t)v + 2]);
-            zmin = fmin(zmin, neutral[3 * (size_t)v + 2]);
-        }
-        double cut = zmax - 0.05 * (zmax - zmin), f[3] = {0, 0, 0};
-        int n = 0;
-        for (int v = first; v < first + count; v++)
-            if (neutral[3 * (size_t)v + 2] >= cut) {
-                for (int d = 0; d < 3; d++) f[d] += neutral[3 * (size_t)v + d];
-                n++;
-            }
-        double len = 0.0;
-        for (int d = 0; d < 3; d++) a[d] = f[d] / n - c[d], len += a[d] * a[d];
-        for (int d = 0; d < 3; d++) a[d] /= sqrt(len);
-    }
+    for (int e = 0; e < 2; e++) fr_eye_frame(&m->topo, neutral, names[e], s->eye_centre[e], s->eye_axis[e]);
     for (int i = 0; i < 3; i++) {
         s->iris_albedo[i] = fr_srgb_to_linear(s->iris_srgb[i] / 255.0);
         s->sclera_albedo[i] = fr_srgb_to_linear((i == 0 ? 228.0 : i == 1 ? 220.0 : 214.0) / 255.0);

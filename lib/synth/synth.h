@@ -7,6 +7,7 @@
 #include <stdint.h>
 
 #include "core/rng.h"
+#include "image/srgb.h"
 #include "frig/synth.h"
 #include "raster/camera.h"
 #include "raster/raster.h"
@@ -191,10 +192,6 @@ void fr_sh_irradiance_coeffs(const double d[3], double direct, double ambient, d
 void fr_synth_background(const fr_synth_photo *p, int w, int h, double scale, float *rgb);
 /* Draw the occluder over a linear RGB buffer rendered at 'scale' times the photo's size. */
 void fr_synth_draw_occluder(const fr_synth_photo *p, int w, int h, double scale, float *rgb);
-
-/* sRGB <-> linear (IEC 61966-2-1). */
-double fr_srgb_to_linear(double c);
-double fr_linear_to_srgb(double c);
 
 /* A 64-bit seed for item 'index' of a stream (splitmix64 of both). */
 uint64_t fr_seed_mix(uint64_t seed, uint64_t index);

@@ -1,8 +1,8 @@
-/* sRGB transfer functions (IEC 61966-2-1): synthetic photos are lit and shaded in linear
- * light, then encoded, as a camera does. */
+/* sRGB transfer functions (IEC 61966-2-1): synthetic photos and the rig's renders are lit and
+ * shaded in linear light, then encoded, as a camera does; textures are painted in sRGB. */
 #include <math.h>
 
-#include "synth/synth.h"
+#include "image/srgb.h"
 
 double fr_srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
 
