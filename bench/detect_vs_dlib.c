@@ -9,7 +9,12 @@
  *     the stage's boxes (frontal; profile + mirror where it finds nothing), landmarks from
  *     calibrated and raw boxes; distance to dlib's points on the faces both find, NME on the
  *     iBUG ground truth (STEM.pts, not dlib's predicted example faces), detection rate per
- *     set, speed (detector s/MP, predictor us/face) and ratios to the given reference times. */
+ *     set, speed (detector s/MP, predictor us/face) and ratios to the given reference times.
+ *   detect_vs_dlib ssd DLIB_HOG.jsonl PHOTO...
+ *     face-api's SSD detector (photos decoded as jpeg-js does): its raw boxes fitted to dlib's
+ *     boxes (the SSD row of box_calibration.c); photos with a face per set against the cascade
+ *     path and dlib; NME on the ground-truth faces of face-api's landmark net and of dlib's
+ *     predictor on the mapped SSD box (and of dlib's own pipeline); times. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -93,6 +98,25 @@ typedef struct fit {
     size_t cap;
 } fit;
 
+/* One matched pair: our raw box b, dlib's box rb. Nonzero when out of memory. */
+static int fit_add(fit *q, const double *b, const double *rb) {
+    q->sww += b[2] * b[2];
+    q->swx += b[2] * (rb[0] - b[0]);
+    q->sww2 += b[2] * rb[2];
+    q->shh += b[3] * b[3];
+    q->shy += b[3] * (rb[1] - b[1]);
+    q->shh2 += b[3] * rb[3];
+    if (q->n == q->cap) {
+        q->cap = q->cap ? 2 * q->cap : 256;
+        q->pairs = realloc(q->pairs, q->cap * 8 * sizeof *q->pairs);
+        if (!q->pairs) return 1;
+    }
+    memcpy(q->pairs + 8 * q->n, b, 4 * sizeof *b);
+    memcpy(q->pairs + 8 * q->n + 4, rb, 4 * sizeof *rb);
+    q->n++;
+    return 0;
+}
+
 static int calibrate(frig_ctx *ctx, const frig_detector *det, const lm_face *ref, long nref, char **photos, int np) {
     fit f[3];
     memset(f, 0, sizeof f);
@@ -114,23 +138,9 @@ static int calibrate(frig_ctx *ctx, const frig_detector *det, const lm_face *ref
             match_boxes(boxes, m, ref, r, match);
             for (size_t i = 0; i < m; i++) {
                 if (match[i] < 0) continue;
-                double rb[4], *b = boxes + 4 * i;
+                double rb[4];
                 ref_box(&ref[match[i]], rb);
-                fit *q = &f[s];
-                q->sww += b[2] * b[2];
-                q->swx += b[2] * (rb[0] - b[0]);
-                q->sww2 += b[2] * rb[2];
-                q->shh += b[3] * b[3];
-                q->shy += b[3] * (rb[1] - b[1]);
-                q->shh2 += b[3] * rb[3];
-                if (q->n == q->cap) {
-                    q->cap = q->cap ? 2 * q->cap : 256;
-                    q->pairs = realloc(q->pairs, q->cap * 8 * sizeof *q->pairs);
-                    if (!q->pairs) return 1;
-                }
-                memcpy(q->pairs + 8 * q->n, b, 4 * sizeof *b);
-                memcpy(q->pairs + 8 * q->n + 4, rb, 4 * sizeof *rb);
-                q->n++;
+                if (fit_add(&f[s], boxes + 4 * i, rb)) return 1;
             }
         }
         free(v);
@@ -171,9 +181,28 @@ static int calibrate(frig_ctx *ctx, const frig_detector *det, const lm_face *ref
 #define MAX_SETS 32
 typedef struct set_stats {
     char name[128];
-    int photos, ours_found, dlib_found, fallback_found;
+    int photos, ours_found, dlib_found, fallback_found, either_found;
     size_t ours_faces, dlib_faces;
 } set_stats;
+
+/* The statistics of the photo's set (its folder; a new entry the first time), with the photo
+ * and dlib's faces r in it counted. */
+static set_stats *set_for(set_stats *sets, int *nsets, const char *photo, ref_faces r) {
+    char sb[128];
+    const char *sname = set_of(photo, sb, sizeof sb);
+    int si = 0;
+    while (si < *nsets && strcmp(sets[si].name, sname) != 0) si++;
+    if (si == *nsets && *nsets < MAX_SETS) {
+        memset(&sets[*nsets], 0, sizeof sets[*nsets]);
+        snprintf(sets[*nsets].name, sizeof sets[*nsets].name, "%s", sname);
+        (*nsets)++;
+    }
+    set_stats *ss = &sets[si < MAX_SETS ? si : MAX_SETS - 1];
+    ss->photos++;
+    ss->dlib_found += r.n > 0;
+    ss->dlib_faces += (size_t)r.n;
+    return ss;
+}
 
 typedef struct dist_stats {
     lm_stats px;
@@ -240,20 +269,8 @@ static int end_to_end(frig_ctx *ctx, const frig_detector *det, const lm_face *re
     int gt = 0, gt_ours = 0, gt_dlib = 0, gt_both = 0;
     printf("ground truth faces (NME = mean point distance / outer eye corners distance):\n");
     for (int p = 0; p < np; p++) {
-        char sb[128];
-        const char *sname = set_of(photos[p], sb, sizeof sb);
-        int si = 0;
-        while (si < nsets && strcmp(sets[si].name, sname) != 0) si++;
-        if (si == nsets && nsets < MAX_SETS) {
-            memset(&sets[nsets], 0, sizeof sets[nsets]);
-            snprintf(sets[nsets].name, sizeof sets[nsets].name, "%s", sname);
-            nsets++;
-        }
-        set_stats *ss = &sets[si < MAX_SETS ? si : MAX_SETS - 1];
-        ss->photos++;
         ref_faces r = ref_of(ref, nref, photos[p]);
-        ss->dlib_found += r.n > 0;
-        ss->dlib_faces += (size_t)r.n;
+        set_stats *ss = set_for(sets, &nsets, photos[p], r);
         frig_image *rgb = load_rgb(ctx, photos[p]), *gray = NULL, *dgray = NULL;
         if (!rgb) continue;
         mp += rgb->width * (double)rgb->height / 1e6;
@@ -387,13 +404,147 @@ static int end_to_end(frig_ctx *ctx, const frig_detector *det, const lm_face *re
     return 0;
 }
 
+/* ---- face-api's SSD detector ---- */
+typedef struct nme_sum {
+    double sum;
+    int n;
+} nme_sum;
+
+static int ssd_eval(frig_ctx *ctx, const frig_detector *det, const lm_face *ref, long nref, char **photos, int np) {
+    fit q;
+    memset(&q, 0, sizeof q);
+    set_stats sets[MAX_SETS];
+    int nsets = 0;
+    nme_sum net = {0, 0}, dl = {0, 0}, dlib_own = {0, 0}, net_both = {0, 0}, dl_both = {0, 0}, own_both = {0, 0};
+    double t_ssd = 0, t_net = 0, t_desc = 0, t_cascade = 0, mp = 0;
+    size_t faces = 0;
+    printf("ground truth faces: NME of face-api's net / dlib's predictor on the mapped SSD box / dlib's pipeline\n");
+    for (int p = 0; p < np; p++) {
+        ref_faces r = ref_of(ref, nref, photos[p]);
+        set_stats *ss = set_for(sets, &nsets, photos[p], r);
+        frig_image *rgb = NULL, *plain = NULL, *gray = NULL, *dgray = NULL;
+        if (frig_image_load(ctx, photos[p], FRIG_LOAD_IGNORE_ORIENTATION | FR_LOAD_LIKE_JPEG_JS, &rgb)) continue;
+        mp += rgb->width * (double)rgb->height / 1e6;
+        fr_nn_image in = {rgb->pixels, rgb->stride, rgb->width, rgb->height, rgb->channels};
+        fr_ssd_face *b = NULL;
+        size_t n = 0;
+        double t0 = now();
+        if (fr_ssd_detect(ctx, det->nets->ssd, &in, det->ssd_min_score, 100, &b, &n)) return 1;
+        t_ssd += now() - t0;
+        ss->ours_found += n > 0;
+        ss->ours_faces += n;
+        /* the cascade path on the default decode, for the per-set count */
+        fr_detected_face *cv = NULL;
+        size_t cn = 0;
+        if (!frig_image_load(ctx, photos[p], FRIG_LOAD_IGNORE_ORIENTATION, &plain) && !fr_gray_like_opencv(ctx, plain, &gray)) {
+            t0 = now();
+            if (fr_detect_boxes(ctx, det, gray, &cv, &cn)) return 1;
+            t_cascade += now() - t0;
+        }
+        ss->fallback_found += cn > 0;
+        ss->either_found += n > 0 || cn > 0;
+        /* calibration pairs */
+        double raw[4 * 64];
+        size_t m = n < 64 ? n : 64;
+        for (size_t i = 0; i < m; i++) memcpy(raw + 4 * i, b[i].box, sizeof b[i].box);
+        long match[64];
+        match_boxes(raw, m, ref, r, match);
+        for (size_t i = 0; i < m; i++) {
+            if (match[i] < 0) continue;
+            double rb[4];
+            ref_box(&ref[match[i]], rb);
+            if (fit_add(&q, raw + 4 * i, rb)) return 1;
+        }
+        /* landmarks and descriptors of every face; NME where ground truth exists */
+        fr_detected_face *v = calloc(n ? n : 1, sizeof *v);
+        if (fr_gray_like_dlib(ctx, rgb, &dgray)) return 1;
+        for (size_t i = 0; i < n; i++) {
+            int crop[4];
+            fr_box_map map = fr_box_map_for(FRIG_FACE_SSD);
+            fr_box_map_apply(&map, b[i].box, v[i].box);
+            t0 = now();
+            if (fr_landmark_net_run(ctx, det->nets->landmarks, &in, b[i].box, v[i].landmarks, crop)) return 1;
+            t_net += now() - t0;
+            t0 = now();
+            if (fr_recognition_net_run(ctx, det->nets->recognition, &in, v[i].landmarks, crop[2], crop[3], v[i].descriptor))
+                return 1;
+            t_desc += now() - t0;
+            faces++;
+        }
+        double truth[2 * LM_POINTS];
+        if (has_truth(photos[p], truth)) {
+            long k = face_at_truth(v, n, truth);
+            long d = lm_match_truth(ref, nref, photos[p], truth);
+            double e_net = -1, e_dl = -1, e_own = d >= 0 ? lm_nme(ref[d].dlib, truth) : -1;
+            if (k >= 0) {
+                fr_detected_face f = v[k];
+                e_net = lm_nme(f.landmarks, truth);
+                if (fr_detect_landmarks_on(ctx, det, dgray, &f, 1)) return 1;
+                e_dl = lm_nme(f.landmarks, truth);
+                net.sum += e_net, net.n++;
+                dl.sum += e_dl, dl.n++;
+            }
+            if (e_own >= 0) dlib_own.sum += e_own, dlib_own.n++;
+            if (k >= 0 && e_own >= 0) {
+                net_both.sum += e_net, net_both.n++;
+                dl_both.sum += e_dl, dl_both.n++;
+                own_both.sum += e_own, own_both.n++;
+            }
+            printf("  %-72s net %.4f  dlib on SSD box %.4f  dlib pipeline %.4f\n", photos[p], e_net, e_dl, e_own);
+        }
+        free(v);
+        free(b);
+        free(cv);
+        frig_image_free(rgb);
+        frig_image_free(plain);
+        frig_image_free(gray);
+        frig_image_free(dgray);
+    }
+    printf("NME: face-api's net %.4f (%d faces), dlib's predictor on the mapped SSD box %.4f (%d), dlib's pipeline %.4f "
+           "(%d); on the %d faces both pipelines find: net %.4f, dlib on SSD box %.4f, dlib's pipeline %.4f\n",
+           net.n ? net.sum / net.n : 0, net.n, dl.n ? dl.sum / dl.n : 0, dl.n, dlib_own.n ? dlib_own.sum / dlib_own.n : 0,
+           dlib_own.n, own_both.n, net_both.n ? net_both.sum / net_both.n : 0, dl_both.n ? dl_both.sum / dl_both.n : 0,
+           own_both.n ? own_both.sum / own_both.n : 0);
+    printf("\nphotos with a face: set, photos, SSD, SSD + cascade fallback, cascade path, dlib\n");
+    int tot[5] = {0, 0, 0, 0, 0};
+    for (int k = 0; k < nsets; k++) {
+        printf("  %-42s %4d %4d %4d %4d %4d\n", sets[k].name, sets[k].photos, sets[k].ours_found, sets[k].either_found,
+               sets[k].fallback_found, sets[k].dlib_found);
+        tot[0] += sets[k].photos, tot[1] += sets[k].ours_found, tot[2] += sets[k].either_found,
+            tot[3] += sets[k].fallback_found, tot[4] += sets[k].dlib_found;
+    }
+    printf("  %-42s %4d %4d %4d %4d %4d\n", "all", tot[0], tot[1], tot[2], tot[3], tot[4]);
+    if (q.n) {
+        fr_box_map mm = {q.swx / q.sww, q.shy / q.shh, q.sww2 / q.sww, q.shh2 / q.shh};
+        double iou_raw = 0, iou_cal = 0;
+        for (size_t i = 0; i < q.n; i++) {
+            double *x = q.pairs + 8 * i, *rb = x + 4, c[4];
+            fr_box_map_apply(&mm, x, c);
+            iou_raw += fr_box_iou(x, rb);
+            iou_cal += fr_box_iou(c, rb);
+        }
+        printf("\nSSD box -> dlib box over %zu faces: a %+.4f b %+.4f c %.4f d %.4f; mean IoU %.3f raw -> %.3f\n", q.n,
+               mm.a, mm.b, mm.c, mm.d, iou_raw / q.n, iou_cal / q.n);
+        printf("    C row: {%.4f, %.4f, %.4f, %.4f},\n", mm.a, mm.b, mm.c, mm.d);
+        free(q.pairs);
+    }
+    printf("\ntimes (one thread, %.1f MP): SSD %.3f s/photo, landmark net %.2f ms/face, descriptor %.2f ms/face; "
+           "cascade path %.3f s/photo (SSD / cascade %.2f)\n",
+           mp, t_ssd / np, 1e3 * t_net / (faces ? faces : 1), 1e3 * t_desc / (faces ? faces : 1), t_cascade / np,
+           t_cascade > 0 ? t_ssd / t_cascade : 0);
+    return 0;
+}
+
 int main(int argc, char **argv) {
     if (argc < 4) {
-        fprintf(stderr, "usage: detect_vs_dlib calibrate|e2e DLIB_HOG.jsonl [options] PHOTO...\n");
+        fprintf(stderr, "usage: detect_vs_dlib calibrate|e2e|ssd DLIB_HOG.jsonl [options] PHOTO...\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
     frig_detector *det = NULL;
+    /* calibrate and e2e measure the cascade path; ssd loads face-api's networks too */
+    if (ctx) frig_ctx_set_param(ctx, FRIG_PARAM_DETECT_DETECTOR, strcmp(argv[1], "ssd") == 0 ? 2 : 1);
+    if (ctx) frig_ctx_set_param(ctx, FRIG_PARAM_DETECT_DESCRIPTORS, 0);
     if (!ctx || frig_detector_create(ctx, NULL, NULL, &det)) {
         fprintf(stderr, "%s\n", ctx ? frig_ctx_errmsg(ctx) : "out of memory");
         return 1;
@@ -416,7 +567,8 @@ int main(int argc, char **argv) {
         }
     }
     int rc = !strcmp(argv[1], "calibrate") ? calibrate(ctx, det, ref, nref, argv + i, argc - i)
-                                          : end_to_end(ctx, det, ref, nref, argv + i, argc - i, o);
+             : !strcmp(argv[1], "ssd")     ? ssd_eval(ctx, det, ref, nref, argv + i, argc - i)
+                                           : end_to_end(ctx, det, ref, nref, argv + i, argc - i, o);
     if (rc) fprintf(stderr, "failed: %s\n", frig_ctx_errmsg(ctx));
     free(ref);
     frig_detector_free(det);

@@ -69,6 +69,11 @@ int cmd_info(cli_env *env, int argc, char **argv);
 extern const char cmd_info_usage[];
 int cmd_detect(cli_env *env, int argc, char **argv);
 extern const char cmd_detect_usage[];
+int cmd_identify(cli_env *env, int argc, char **argv);
+extern const char cmd_identify_usage[];
+/* The identity step on a loaded set, with the summary line; CLI_FAILED (sentence printed)
+ * when the set has no dominant identity. */
+int cli_identify(cli_env *env, const char *cmd, frig_photoset *set);
 int cmd_model(cli_env *env, int argc, char **argv);
 extern const char cmd_model_usage[];
 int cmd_filter(cli_env *env, int argc, char **argv);

@@ -14,6 +14,8 @@ static const cli_command commands[] = {
     {"info", cmd_info, "describe images as libfrig reads them", cmd_info_usage},
     {"detect", cmd_detect, "find faces and 68 landmarks in photos, write report.json and overlays",
      cmd_detect_usage},
+    {"identify", cmd_identify, "choose the subject's face by face descriptors, mark other people (after detect)",
+     cmd_identify_usage},
     {"filter", cmd_filter, "drop photos whose landmarks failed (robust PCA, section 4.2)", cmd_filter_usage},
     {"fit", cmd_fit, "fit the face model to the workspace's photos (sections 4.3-4.4)", cmd_fit_usage},
     {"export", cmd_export, "write the workspace's rig as glTF and OBJ files", cmd_export_usage},

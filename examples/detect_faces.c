@@ -16,7 +16,7 @@ int main(int argc, char **argv) {
     }
     static double boxes[4 * MAX_FACES], scores[MAX_FACES], landmarks[136 * MAX_FACES];
     static int sources[MAX_FACES];
-    static const char *const source_names[] = {"frontal", "profile", "profile_mirrored", "user"};
+    static const char *const source_names[] = {"frontal", "profile", "profile_mirrored", "user", "ssd"};
     frig_ctx *ctx = frig_ctx_create();
     frig_detector *det = NULL;
     frig_image *photo = NULL;
@@ -29,7 +29,7 @@ int main(int argc, char **argv) {
     for (size_t i = 0; i < n && i < MAX_FACES; i++) {
         const double *b = boxes + 4 * i, *lm = landmarks + 136 * i;
         printf("  box %.1f %.1f %.1f %.1f, %s, score %g, nose tip (point 30) at %.1f %.1f\n", b[0], b[1], b[2], b[3],
-               source_names[sources[i] & 3], scores[i], lm[60], lm[61]);
+               source_names[sources[i] >= 0 && sources[i] <= 4 ? sources[i] : 0], scores[i], lm[60], lm[61]);
     }
     rc = 0;
 done:

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Install what libfrig needs on Debian 12, as root or through sudo.
-#   scripts/install-deps.sh          build dependencies and the data files (dlib, OpenCV)
+#   scripts/install-deps.sh          build dependencies and the data files (dlib, OpenCV, face-api's
+#                                    networks into /usr/local/share/frig/face-api/model)
 #   scripts/install-deps.sh --test   also the reference tools the test suite compares against
 #                                    (dlib, OpenCV's Python module, Blender, the glTF validator,
 #                                    ffmpeg for video input, Chromium for the HTML report)
@@ -9,8 +10,8 @@ SUDO=""
 if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 
 build_pkgs="build-essential cmake pkg-config libopenblas-dev liblapacke-dev libsuitesparse-dev
-  libpng-dev libjpeg62-turbo-dev libcjson-dev zlib1g-dev libdlib-data opencv-data"
-test_pkgs="libdlib-dev python3-opencv python3-numpy blender nodejs npm binutils abigail-tools ffmpeg chromium"
+  libpng-dev libjpeg62-turbo-dev libcjson-dev zlib1g-dev libdlib-data opencv-data nodejs npm"
+test_pkgs="libdlib-dev python3-opencv python3-numpy blender binutils abigail-tools ffmpeg chromium"
 
 want="$build_pkgs"
 if [ "${1:-}" = "--test" ]; then want="$want $test_pkgs"; fi
@@ -35,4 +36,23 @@ if [ "${1:-}" = "--test" ]; then
     mkdir -p "$tools"
     (cd "$tools" && npm install --silent --no-audit --no-fund gltf-validator@2.0.0-dev.3.10 >/dev/null)
   fi
+fi
+
+# The face networks (SSD MobileNet v1 detector, 68-point landmark net, face recognition net) of
+# the npm package @vladmandic/face-api (MIT): only its model/ folder and licence are kept, in
+# FRIG_FACE_MODELS_HOME (default /usr/local/share/frig/face-api), which is where libfrig looks
+# by default (docs/identity.md). npm pack fetches the package's tarball without installing it.
+faceapi_version=1.7.15
+faceapi_home="${FRIG_FACE_MODELS_HOME:-/usr/local/share/frig/face-api}"
+if [ ! -f "$faceapi_home/model/ssd_mobilenetv1_model-weights_manifest.json" ] ||
+   [ "$(cat "$faceapi_home/VERSION" 2>/dev/null)" != "$faceapi_version" ]; then
+  scratch="$(mktemp -d)"
+  (cd "$scratch" && npm pack --silent "@vladmandic/face-api@$faceapi_version" >/dev/null &&
+    tar -xzf vladmandic-face-api-"$faceapi_version".tgz package/model package/LICENSE)
+  $SUDO mkdir -p "$faceapi_home"
+  $SUDO rm -rf "$faceapi_home/model"
+  $SUDO cp -r "$scratch/package/model" "$scratch/package/LICENSE" "$faceapi_home/"
+  echo "$faceapi_version" | $SUDO tee "$faceapi_home/VERSION" >/dev/null
+  rm -rf "$scratch"
+  echo "installed @vladmandic/face-api $faceapi_version's networks in $faceapi_home/model"
 fi

@@ -41,7 +41,7 @@ cv2.imwrite(sys.argv[2], out)
 PY
 
 ws=$tmp/ws
-"$F" detect "$in" -w "$ws" > "$tmp/out" 2> "$tmp/err"; rc=$?
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in" -w "$ws" > "$tmp/out" 2> "$tmp/err"; rc=$?
 check '[ $rc = 0 ]'
 cat "$tmp/err"
 check 'grep -q "^8 photos, " "$tmp/out"'
@@ -103,39 +103,39 @@ check '[ -s "$ws/overlays/detect/3_d_cut.jpg" ] && [ -s "$ws/overlays/detect/7_h
 check '"$F" info "$ws/overlays/detect/0_a_blair.jpg" | grep -q "150x150"'
 
 # A new run replaces the report and the overlays; detect.user_landmarks=0 ignores the .pts.
-"$F" --quiet detect "$in/g_user.png" -w "$ws" --set detect.user_landmarks=0 > "$tmp/out2"; rc=$?
+"$F" --quiet --set detect.detector=1 --set detect.descriptors=0 detect "$in/g_user.png" -w "$ws" --set detect.user_landmarks=0 > "$tmp/out2"; rc=$?
 check '[ $rc = 0 ]'
 check '[ ! -s "$tmp/out2" ]'
 check '/usr/bin/python3 -c "import json,sys; r=json.load(open(sys.argv[1])); p=r[\"photos\"]; sys.exit(not (len(p)==1 and p[0][\"status\"]==\"ok\" and p[0][\"faces\"][p[0][\"subject\"]][\"source\"]==\"frontal\"))" "$ws/report.json"'
 check '[ $(ls "$ws/overlays/detect" | wc -l) = 1 ]'
-"$F" detect "$in/a_blair.jpg" -w "$ws" --no-overlays > /dev/null; check '[ $? = 0 ]'
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in/a_blair.jpg" -w "$ws" --no-overlays > /dev/null; check '[ $? = 0 ]'
 check '[ $(ls "$ws/overlays/detect" | wc -l) = 1 ]'
 
 # Usage errors and a missing data file.
-"$F" detect "$in/a_blair.jpg" 2> "$tmp/err"; check '[ $? = 2 ]'
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in/a_blair.jpg" 2> "$tmp/err"; check '[ $? = 2 ]'
 check 'grep -q "no workspace" "$tmp/err"'
-"$F" detect -w "$ws" 2> /dev/null; check '[ $? = 2 ]'
-"$F" detect "$in/notes.txt" -w "$tmp/ws3" > /dev/null; check '[ $? = 0 ]'   # named directly: tried, unreadable
-"$F" detect "$in/a_blair.jpg" "$in/no_such.jpg" -w "$tmp/ws6" 2> "$tmp/err"; check '[ $? = 1 ]'  # missing: an error
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect -w "$ws" 2> /dev/null; check '[ $? = 2 ]'
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in/notes.txt" -w "$tmp/ws3" > /dev/null; check '[ $? = 0 ]'   # named directly: tried, unreadable
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in/a_blair.jpg" "$in/no_such.jpg" -w "$tmp/ws6" 2> "$tmp/err"; check '[ $? = 1 ]'  # missing: an error
 check 'grep -q "no_such.jpg: no such file or folder" "$tmp/err" && [ ! -e "$tmp/ws6/report.json" ]'
 : > "$tmp/clip.mp4"
-"$F" detect "$tmp/clip.mp4" -w "$tmp/ws6" 2> "$tmp/err"; check '[ $? = 1 ]'
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$tmp/clip.mp4" -w "$tmp/ws6" 2> "$tmp/err"; check '[ $? = 1 ]'
 check 'grep -q "clip.mp4 is a video: frig run samples frames" "$tmp/err"'
 check 'grep -q "\"unreadable\"" "$tmp/ws3/report.json"'
-"$F" detect "$in/a_blair.jpg" -w "$tmp/ws2" --cascades "$tmp/nowhere" 2> "$tmp/err"; check '[ $? = 1 ]'
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in/a_blair.jpg" -w "$tmp/ws2" --cascades "$tmp/nowhere" 2> "$tmp/err"; check '[ $? = 1 ]'
 check 'grep -q "opencv-data" "$tmp/err"'
-"$F" detect "$in/a_blair.jpg" -w "$tmp/ws2" --landmark-model "$tmp/nowhere.dat" 2> "$tmp/err"; check '[ $? = 1 ]'
+"$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in/a_blair.jpg" -w "$tmp/ws2" --landmark-model "$tmp/nowhere.dat" 2> "$tmp/err"; check '[ $? = 1 ]'
 check 'grep -q "libdlib-data" "$tmp/err"'
 
 # Byte-identical copies (scraped sets repeat photos): the later copy is a duplicate naming the first.
 mkdir -p "$tmp/dup" && cp "$in/a_blair.jpg" "$tmp/dup/x.jpg" && cp "$in/a_blair.jpg" "$tmp/dup/y.jpg"
 cp "$in/b_powell.JPG" "$tmp/dup/z.jpg"
-"$F" --quiet detect "$tmp/dup" -w "$tmp/ws5" --no-overlays; check '[ $? = 0 ]'
+"$F" --quiet --set detect.detector=1 --set detect.descriptors=0 detect "$tmp/dup" -w "$tmp/ws5" --no-overlays; check '[ $? = 0 ]'
 dupcheck='import json,sys; p={q["file"].rsplit("/",1)[-1]: q for q in json.load(open(sys.argv[1]))["photos"]}
 sys.exit(not (p["x.jpg"]["status"]=="ok" and p["z.jpg"]["status"]==sys.argv[2] and p["y.jpg"]["status"]==sys.argv[3]
               and (sys.argv[3]=="ok" or p["y.jpg"]["reason"].endswith("x.jpg"))))'
 check '/usr/bin/python3 -c "$dupcheck" "$tmp/ws5/report.json" ok duplicate'
-"$F" --quiet --set detect.duplicates=0 detect "$tmp/dup" -w "$tmp/ws5" --no-overlays; check '[ $? = 0 ]'
+"$F" --quiet --set detect.duplicates=0 --set detect.detector=1 --set detect.descriptors=0 detect "$tmp/dup" -w "$tmp/ws5" --no-overlays; check '[ $? = 0 ]'
 check '/usr/bin/python3 -c "$dupcheck" "$tmp/ws5/report.json" ok ok'
 
 # The progress bar, on a terminal.

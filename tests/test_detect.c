@@ -308,6 +308,7 @@ static void test_no_face_and_profile(void) {
     CHECK(img && detect(ctx, det, img, &f) == FRIG_OK && f.n >= 1);
     CHECK(f.n >= 1 && f.sources[0] != FRIG_FACE_FRONTAL);
     frig_ctx *c = frig_ctx_create();
+    frig_ctx_set_param(c, FRIG_PARAM_DETECT_DETECTOR, 1); /* the cascades (face-api's SSD: test_identity) */
     frig_detector *d = NULL;
     CHECK(frig_ctx_set_param(c, FRIG_PARAM_DETECT_PROFILE, 0) == FRIG_OK);
     CHECK(frig_detector_create(c, NULL, NULL, &d) == FRIG_OK);
@@ -333,6 +334,7 @@ static void test_max_side(void) {
     frig_image *img = load("photos/landmarks_300w_lfpw/lfpw_image_0010.png", 0);
     found full, small, coarse;
     frig_ctx *c = frig_ctx_create();
+    frig_ctx_set_param(c, FRIG_PARAM_DETECT_DETECTOR, 1); /* the cascades (face-api's SSD: test_identity) */
     frig_detector *d_full = detector_with(c, 1024, 0), *d_small = detector_with(c, 640, 0);
     CHECK(d_full && img && detect(c, d_full, img, &full) == FRIG_OK && full.n >= 1);
     CHECK(d_small && img && detect(c, d_small, img, &small) == FRIG_OK && small.n >= 1);
@@ -368,6 +370,7 @@ static void test_coarse_miss(void) {
         memcpy(big->pixels + (size_t)(1100 + y) * big->stride + 1100 * 3, lfw->pixels + (size_t)y * lfw->stride,
                (size_t)lfw->width * 3);
     frig_ctx *c = frig_ctx_create();
+    frig_ctx_set_param(c, FRIG_PARAM_DETECT_DETECTOR, 1); /* the cascades (face-api's SSD: test_identity) */
     frig_detector *d_640 = detector_with(c, 640, 0), *d_off = detector_with(c, 1024, 0);
     found at640, off, staged;
     CHECK(d_640 && detect(c, d_640, big, &at640) == FRIG_OK && at640.n == 0);
@@ -393,6 +396,7 @@ typedef struct job {
 static void *run_job(void *arg) {
     job *j = arg;
     frig_ctx *c = frig_ctx_create();
+    frig_ctx_set_param(c, FRIG_PARAM_DETECT_DETECTOR, 1); /* the cascades (face-api's SSD: test_identity) */
     j->st = c ? FRIG_OK : FRIG_ERR_NO_MEMORY;
     for (int k = 0; k < 3 && !j->st; k++) j->st = detect(c, det, j->img[k], &j->out[k]);
     frig_ctx_free(c);
@@ -537,6 +541,7 @@ static void test_progress_and_cancel(void) {
     for (size_t i = 0; i < N_REF; i++) CHECK(frig_photoset_add(ctx, set, test_shared_path(ref_photos[i]), NULL) == FRIG_OK);
     for (int cancel = 0; cancel < 2; cancel++) {
         frig_ctx *c = frig_ctx_create();
+        frig_ctx_set_param(c, FRIG_PARAM_DETECT_DETECTOR, 1); /* the cascades (face-api's SSD: test_identity) */
         ticks t = {0, 0, 0, 1, cancel ? 2 : 0, c};
         frig_ctx_set_progress(c, on_progress, &t);
         CHECK(frig_ctx_set_threads(c, 2) == FRIG_OK);
@@ -590,6 +595,7 @@ static void test_exif(void) {
 
 int main(void) {
     ctx = frig_ctx_create();
+    frig_ctx_set_param(ctx, FRIG_PARAM_DETECT_DETECTOR, 1); /* the cascades (face-api's SSD: test_identity) */
     test_missing_files();
     test_merge_and_subject();
     test_user_files();

@@ -231,7 +231,8 @@ static void test_contact_sheet(frig_ctx *ctx) {
     for (int k = 0; k < P; k++) tex[k] = 2.0; /* face 0: bright */
     int rounds[5] = {0, 3, 0, 0, 12};
     frig_image *img = NULL;
-    CHECK(fr_contact_sheet(ctx, w, 5, tex, rounds, 3, &img) == FRIG_OK);
+    double dist[5] = {0.31, NAN, NAN, 0.72, NAN}; /* identity distances: yellow under 0.5, red over */
+    CHECK(fr_contact_sheet(ctx, w, 5, tex, rounds, dist, 0.5, 3, &img) == FRIG_OK);
     /* cells of 32 + 2 * 3 + 2 = 40 pixels, plus a 2-pixel margin: 3 x 40 + 2 by 2 x 40 + 2 */
     CHECK(img && frig_image_width(img) == 122 && frig_image_height(img) == 82);
     const uint8_t *px = frig_image_pixels(img);
@@ -246,9 +247,18 @@ static void test_contact_sheet(frig_ctx *ctx) {
     for (int y = 5; y < 5 + 14; y++)
         for (int x = 45; x < 45 + 18; x++) white += PX(x, y, 0) == 255 && PX(x, y, 1) == 255;
     CHECK(white > 10);
+    /* the distances: yellow text at the bottom of cell 0, red at the bottom of cell 3 (row 2) */
+    int yellow = 0, red = 0, none = 0;
+    for (int y = 2 + 3 + 32 - 9; y < 2 + 3 + 32; y++)
+        for (int x = 5; x < 5 + 26; x++) {
+            yellow += PX(x, y, 0) == 255 && PX(x, y, 1) == 220 && PX(x, y, 2) == 60;
+            red += PX(x, y + 40, 0) == 255 && PX(x, y + 40, 1) == 90;
+            none += PX(x + 80, y, 0) == 255 && PX(x + 80, y, 1) == 220; /* cell 2: no distance */
+        }
+    CHECK(yellow > 10 && red > 10 && none == 0);
 #undef PX
     frig_image_free(img);
-    CHECK(fr_contact_sheet(ctx, w, 0, tex, rounds, 3, &img) == FRIG_ERR_INVALID_ARGUMENT);
+    CHECK(fr_contact_sheet(ctx, w, 0, tex, rounds, NULL, 0.6, 3, &img) == FRIG_ERR_INVALID_ARGUMENT);
     free(tex);
     fr_face_warp_free(w);
 }

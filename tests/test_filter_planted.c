@@ -547,7 +547,7 @@ static int bench_mode(frig_ctx *ctx, const char *tool, const char *sheet_dir, co
             frig_image *sheet = NULL;
             char path[4200];
             snprintf(path, sizeof path, "%s/filter_contact_sheet.png", sheet_dir);
-            if (fr_contact_sheet(ctx, warp, t.n, t.textures, dropped, 10, &sheet) == FRIG_OK &&
+            if (fr_contact_sheet(ctx, warp, t.n, t.textures, dropped, NULL, 0.6, 10, &sheet) == FRIG_OK &&
                 frig_image_save_png(ctx, sheet, path) == FRIG_OK)
                 printf("\ncontact sheet: %s\n", path);
             frig_image_free(sheet);

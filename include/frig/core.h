@@ -121,6 +121,13 @@ typedef enum frig_param {
     FRIG_PARAM_DETECT_MIN_EYE_DISTANCE = 206, /* smaller subject faces are face_too_small, pixels (default 15) */
     FRIG_PARAM_DETECT_DUPLICATES = 207,     /* 1: a photo with an earlier photo's bytes is a duplicate (default 1) */
     FRIG_PARAM_DETECT_COARSE_SIDE = 208,    /* frontal search first on a copy this large; 0: off (default 640) */
+    /* detect with face-api's networks (frig/identity.h) */
+    FRIG_PARAM_DETECT_DETECTOR = 209,       /* 0: SSD where its weights are installed, else cascades; 1: cascades; 2: SSD */
+    FRIG_PARAM_DETECT_SSD_MIN_SCORE = 210,  /* SSD faces scored above this are kept (default 0.2; the package's 0.5) */
+    FRIG_PARAM_DETECT_LANDMARKS = 211,      /* landmarks on SSD faces: 1 dlib's predictor (default), 2 face-api's net */
+    FRIG_PARAM_DETECT_DESCRIPTORS = 212,    /* 1: a 128-D descriptor for every face when the networks are there */
+    FRIG_PARAM_DETECT_SSD_FALLBACK = 213,   /* 1: where the SSD finds no face, the cascades search (default 1) */
+
 
     /* filter (section 4.2, Algorithm 1) */
     FRIG_PARAM_FILTER_OMEGA = 300,          /* drop e > mu + omega * sigma (default 3) */
@@ -155,6 +162,12 @@ typedef enum frig_param {
     FRIG_PARAM_SYNTH_RIG_OBJ = 504,         /* 1: also write each true rig as OBJ files (default 1) */
     FRIG_PARAM_SYNTH_SHADOWS = 505,         /* share of photos whose key light casts hard shadows (default 0.5) */
     FRIG_PARAM_SYNTH_SPECULAR = 506,        /* strength of the skin's specular highlights, 0 = none (default 1) */
+
+    /* identity (frig/identity.h) */
+    FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */
+    FRIG_PARAM_IDENTITY_CLUSTER_RADIUS = 801, /* faces this close count as one person when finding the identity */
+    FRIG_PARAM_IDENTITY_MIN_DOMINANCE = 802, /* the subject's cluster must hold this many times the photos of the next */
+    FRIG_PARAM_IDENTITY_PROTOTYPE = 803,    /* the identity: 0 the cluster's medoid, 1 the mean of its members (default 1) */
 
     /* frig run: the whole pipeline (docs/run.md) */
     FRIG_PARAM_RUN_VIDEO_FRAMES = 900,      /* frames sampled from each video, evenly spread (default 100) */

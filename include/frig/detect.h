@@ -25,6 +25,20 @@ typedef struct frig_detector frig_detector;
  * detect.min_eye_distance from its own ctx. */
 FRIG_API frig_status frig_detector_create(frig_ctx *ctx, const char *cascade_dir, const char *landmark_model,
                                           frig_detector **out);
+/* The same with face-api's networks (frig/identity.h, docs/identity.md): face_models is the
+ * folder holding ssd_mobilenetv1_model, face_landmark_68_model and face_recognition_model
+ * (*-weights_manifest.json + *.bin); NULL: $FRIG_FACE_MODELS, else
+ * /usr/local/share/frig/face-api/model. With detect.detector 0 (the default) the SSD detector
+ * replaces the cascades when the networks are found there, and the cascades are used when
+ * they are not (a folder given here must hold them); 2 requires them, 1 keeps the cascades.
+ * With detect.descriptors 1 every face gets a 128-D descriptor when the networks are loaded.
+ * frig_detector_create is this with face_models NULL. Damaged weights fail with
+ * FRIG_ERR_CORRUPT / FRIG_ERR_TRUNCATED and a sentence naming the file. */
+FRIG_API frig_status frig_detector_create_with(frig_ctx *ctx, const char *cascade_dir, const char *landmark_model,
+                                               const char *face_models, frig_detector **out);
+/* 1 when the detector runs face-api's SSD detector, 0 for the cascades; 1 in *descriptors when
+ * it computes descriptors (may be NULL). */
+FRIG_API int frig_detector_uses_ssd(const frig_detector *det, int *descriptors);
 FRIG_API void frig_detector_free(frig_detector *det);
 
 /* Every face in the image (an upright RGB photo; gray works too): boxes (x, y, w, h in the

@@ -14,6 +14,7 @@
 #include "frig/rig.h"
 #include "frig/photoset.h"
 #include "frig/detect.h"
+#include "frig/identity.h"
 #include "frig/filter.h"
 #include "frig/fit.h"
 #include "frig/synth.h"

@@ -23,7 +23,9 @@ typedef enum frig_photo_status {
     FRIG_PHOTO_FACE_TOO_SMALL = 4, /* faces found, but the subject is too small to use */
     FRIG_PHOTO_OUTLIER = 5,    /* dropped by the filter stage (robust PCA, Algorithm 1) */
     FRIG_PHOTO_FIT_FAILED = 6, /* the model fit did not converge to anything usable */
-    FRIG_PHOTO_DUPLICATE = 7   /* the same bytes as an earlier photo of the set (reason names it) */
+    FRIG_PHOTO_DUPLICATE = 7,  /* the same bytes as an earlier photo of the set (reason names it) */
+    FRIG_PHOTO_OTHER_PERSON = 8 /* no face in it is the subject's: its nearest face's descriptor is
+                                   farther than identity.threshold from the set's identity (frig/identity.h) */
 } frig_photo_status;
 
 /* "ok", "no_face", ... (the report's spelling); NULL for an unknown value. */
@@ -34,7 +36,8 @@ typedef enum frig_face_source {
     FRIG_FACE_FRONTAL = 0,          /* frontal cascade */
     FRIG_FACE_PROFILE = 1,          /* profile cascade (face turned to its left) */
     FRIG_FACE_PROFILE_MIRRORED = 2, /* profile cascade on the mirrored photo */
-    FRIG_FACE_USER = 3              /* landmarks supplied by the user (.pts / .json) */
+    FRIG_FACE_USER = 3,             /* landmarks supplied by the user (.pts / .json) */
+    FRIG_FACE_SSD = 4               /* face-api's SSD MobileNet v1 detector (frig/identity.h) */
 } frig_face_source;
 
 #define FRIG_LANDMARK_COUNT 68

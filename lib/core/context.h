@@ -9,7 +9,7 @@
 #include "frig/frig.h"
 
 #define FR_ERRMSG_SIZE 1024
-#define FR_PARAM_MAX 64
+#define FR_PARAM_MAX 256
 
 struct frig_ctx {
     int threads;

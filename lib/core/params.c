@@ -38,6 +38,23 @@ static const param_row rows[] = {
     {FRIG_PARAM_DETECT_DUPLICATES, "detect.duplicates", 1, 0, 1, 1,
      "1: a photo whose file has the same bytes as an earlier one is marked duplicate (scraped sets repeat photos)"},
 
+    /* detect with face-api's networks (identity) */
+    {FRIG_PARAM_DETECT_DETECTOR, "detect.detector", 0, 0, 2, 1,
+     "0: face-api's SSD detector where its weights are installed, else the cascades; 1: the cascades; 2: the SSD "
+     "detector (an error when its weights are missing)"},
+    {FRIG_PARAM_DETECT_SSD_MIN_SCORE, "detect.ssd_min_score", 0.2, 0.01, 0.99, 0,
+     "faces the SSD detector scores above this are kept (the package's default is 0.5; 0.2 finds the small faces of "
+     "group photos, and the identity step sets aside what is not the subject)"},
+    {FRIG_PARAM_DETECT_LANDMARKS, "detect.landmarks", 1, 1, 2, 1,
+     "landmarks on SSD faces: 1 dlib's predictor on the box mapped to dlib's convention (NME 0.029 on the ground-truth "
+     "faces), 2 face-api's 68-point net (0.056; better only on a full profile)"},
+    {FRIG_PARAM_DETECT_SSD_FALLBACK, "detect.ssd_fallback", 1, 0, 1, 1,
+     "1: where the SSD detector finds no face, the cascades search the photo (small faces of web thumbnails; the "
+     "identity step marks what is not the subject)"},
+    {FRIG_PARAM_DETECT_DESCRIPTORS, "detect.descriptors", 1, 0, 1, 1,
+     "1: a 128-D face descriptor for every face found, when face-api's networks are installed (the identity step needs "
+     "them)"},
+
     {FRIG_PARAM_FILTER_OMEGA, "filter.omega", 3.0, 0.1, 100, 0,
      "drop photos with error > mu + omega * sigma (see filter.robust_stats)"},
     {FRIG_PARAM_FILTER_W_TEXTURE, "filter.w_texture", 1.0, 0, 1e6, 0, "weight of the texture error (w_t)"},
@@ -82,6 +99,18 @@ static const param_row rows[] = {
      "share of synthetic photos whose key light casts hard shadows (nose, brows, jaw on the neck)"},
     {FRIG_PARAM_SYNTH_SPECULAR, "synth.specular", 1, 0, 10, 0,
      "strength of synthetic skin's specular highlights relative to the default (0: matte skin)"},
+
+    /* identity */
+    {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,
+     "a photo whose face nearest the subject's identity is farther than this (descriptor distance) is other_person"},
+    {FRIG_PARAM_IDENTITY_CLUSTER_RADIUS, "identity.cluster_radius", 0.5, 0.05, 2, 0,
+     "faces closer than this count as the same person when the dominant identity is sought"},
+    {FRIG_PARAM_IDENTITY_PROTOTYPE, "identity.prototype", 1, 0, 1, 1,
+     "the subject's identity: 0 the medoid of the dominant cluster, 1 the mean of that cluster's members (one face "
+     "per photo within identity.cluster_radius of the medoid: strangers are not in it)"},
+    {FRIG_PARAM_IDENTITY_MIN_DOMINANCE, "identity.min_dominance", 1.5, 1, 100, 0,
+     "the subject's cluster must hold at least this many times the photos of the next person's, else the set has "
+     "no dominant identity and the step stops"},
 
     /* run (frig run, docs/run.md) */
     {FRIG_PARAM_RUN_VIDEO_FRAMES, "run.video_frames", 100, 1, 100000, 1,

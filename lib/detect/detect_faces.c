@@ -41,6 +41,18 @@ frig_status fr_detect_image(frig_ctx *ctx, const frig_detector *det, const frig_
     frig_image *cv_gray = NULL, *dlib_gray = NULL;
     fr_detected_face *v = NULL;
     size_t n = 0;
+    if (det->use_ssd) {
+        frig_status st = fr_detect_ssd(ctx, det, image, &v, &n);
+        if (!st && n > 0) qsort(v, n, sizeof *v, by_area);
+        if (st || n > 0 || !det->ssd_fallback) {
+            if (st) free(v);
+            *faces = st ? NULL : v;
+            *count = st ? 0 : n;
+            return st;
+        }
+        free(v); /* nothing found: the cascades search, as without the networks */
+        v = NULL;
+    }
     frig_status st = fr_gray_like_opencv(ctx, image, &cv_gray);
     if (!st) st = fr_detect_boxes(ctx, det, cv_gray, &v, &n);
     frig_image_free(cv_gray);
@@ -54,6 +66,7 @@ frig_status fr_detect_image(frig_ctx *ctx, const frig_detector *det, const frig_
         st = fr_gray_like_dlib(ctx, image, &dlib_gray);
         if (!st) st = fr_detect_landmarks_on(ctx, det, dlib_gray, v, n);
         frig_image_free(dlib_gray);
+        if (!st) st = fr_detect_descriptors(ctx, det, image, v, n);
         qsort(v, n, sizeof *v, by_area);
     }
     if (st) {

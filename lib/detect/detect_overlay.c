@@ -37,11 +37,16 @@ static void draw_face(frig_image *img, const fr_face *f, int subject, double uni
 
 /* The status line: "ok: 2 faces (subject 0, frontal)" or "no_face: no face found". */
 static void status_text(const fr_photo *p, char *buf, size_t size) {
-    static const char *const src[] = {"frontal", "profile", "profile mirrored", "user"};
+    static const char *const src[] = {"frontal", "profile", "profile mirrored", "user", "ssd"};
     const char *name = frig_photo_status_name(p->status);
-    if (p->status == FRIG_PHOTO_OK && p->subject >= 0 && (size_t)p->subject < p->face_count)
-        snprintf(buf, size, "%s: %zu face%s (subject %ld, %s)", name ? name : "?", p->face_count,
-                 p->face_count == 1 ? "" : "s", p->subject, src[p->faces[p->subject].source & 3]);
+    if (p->status == FRIG_PHOTO_OK && p->subject >= 0 && (size_t)p->subject < p->face_count) {
+        const fr_face *f = &p->faces[p->subject];
+        char dist[48] = "";
+        if (!isnan(f->identity_distance)) snprintf(dist, sizeof dist, ", identity distance %.2f", f->identity_distance);
+        snprintf(buf, size, "%s: %zu face%s (subject %ld, %s%s)", name ? name : "?", p->face_count,
+                 p->face_count == 1 ? "" : "s", p->subject, src[(unsigned)f->source <= FRIG_FACE_SSD ? f->source : 0],
+                 dist);
+    }
     else
         snprintf(buf, size, "%s%s%.200s", name ? name : "?", p->reason && *p->reason ? ": " : "",
                  p->reason ? p->reason : "");

@@ -16,9 +16,12 @@ static frig_status store_faces(frig_ctx *ctx, frig_photoset *set, size_t i, cons
                                double min_eye) {
     fr_photo *p = &set->photos[i];
     frig_status st = frig_photoset_clear_faces(ctx, set, i);
-    for (size_t k = 0; k < n && !st; k++)
+    for (size_t k = 0; k < n && !st; k++) {
+        size_t face = 0;
         st = frig_photoset_add_face(ctx, set, i, v[k].box, v[k].score, (frig_face_source)v[k].source, v[k].landmarks,
-                                    NULL);
+                                    &face);
+        if (!st && v[k].has_descriptor) st = frig_photoset_set_face_descriptor(ctx, set, i, face, v[k].descriptor);
+    }
     if (st) return st;
     int too_small = 0;
     long subject = fr_choose_subject(v, n, p->width, p->height, min_eye, &too_small);
@@ -41,7 +44,7 @@ static frig_status detect_photo(frig_ctx *child, const frig_detector *det, frig_
     fr_photo *p = &set->photos[i];
     frig_photoset_clear_faces(child, set, i);
     frig_image *img = NULL;
-    frig_status st = frig_image_load(child, p->path, 0, &img);
+    frig_status st = frig_image_load(child, p->path, fr_detect_load_flags(det), &img);
     if (st == FRIG_ERR_NO_MEMORY) return st;
     if (st) return frig_photoset_set_status(child, set, i, FRIG_PHOTO_UNREADABLE, frig_ctx_errmsg(child));
     p->width = img->width;
@@ -57,6 +60,7 @@ static frig_status detect_photo(frig_ctx *child, const frig_detector *det, frig_
         }
     }
     if (!st && !user_file) st = fr_detect_image(child, det, img, 1, &v, &n);
+    else if (!st) st = fr_detect_descriptors(child, det, img, v, n);
     frig_image_free(img);
     if (!st) {
         st = store_faces(child, set, i, v, n, fr_param(child, FRIG_PARAM_DETECT_MIN_EYE_DISTANCE));
@@ -99,7 +103,10 @@ frig_status frig_detect_photoset_range(frig_ctx *ctx, const frig_detector *det, 
         return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "photos %zu to %zu of a set of %zu", first, first + count,
                         set->count);
     photo_job job = {det, set, first};
-    return fr_parallel_items(ctx, count, "detect", photo_item, &job);
+    int saved = fr_blas_serial_begin();
+    frig_status st = fr_parallel_items(ctx, count, "detect", photo_item, &job);
+    fr_blas_serial_end(saved);
+    return st;
 }
 
 frig_status frig_detect_mark_duplicates(frig_ctx *ctx, frig_photoset *set) {

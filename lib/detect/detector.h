@@ -8,6 +8,8 @@
 #include "detect/cascade.h"
 #include "detect/shape_predictor.h"
 #include "frig/detect.h"
+#include "frig/identity.h"
+#include "nn/face_nets.h"
 
 #define FR_DETECT_DEFAULT_CASCADE_DIR "/usr/share/opencv4"
 #define FR_DETECT_DEFAULT_LANDMARK_MODEL "/usr/share/dlib/shape_predictor_68_face_landmarks.dat"
@@ -20,6 +22,11 @@ struct frig_detector {
     /* detect.* parameters, read at creation */
     double scale_factor;
     int min_neighbors, min_face, profile_fallback, max_side, coarse_side;
+    /* face-api's networks (NULL when not installed and detect.detector is 0): the SSD detector
+     * replaces the cascades when use_ssd; descriptors for every face when descriptors */
+    fr_face_models *nets;
+    int use_ssd, landmark_source, descriptors, ssd_fallback;
+    double ssd_min_score;
 };
 
 /* A face on its way through the stage: box x, y, w, h (upright pixels; after calibration in
@@ -29,7 +36,13 @@ typedef struct fr_detected_face {
     double score;
     int source; /* frig_face_source */
     double landmarks[2 * FRIG_LANDMARK_COUNT];
+    int has_descriptor;
+    float descriptor[FRIG_DESCRIPTOR_SIZE];
 } fr_detected_face;
+
+/* The flags the stage decodes photos with: as jpeg-js does when the SSD detector runs (its
+ * reference answers were made on jpeg-js's pixels), else the default decode. */
+unsigned fr_detect_load_flags(const frig_detector *det);
 
 /* ---- gray images (gray_like_opencv.c) ---- */
 /* The gray image OpenCV's IMREAD_GRAYSCALE gives, computed from decoded RGB: for a PNG source
@@ -92,6 +105,17 @@ frig_status fr_detect_image(frig_ctx *ctx, const frig_detector *det, const frig_
 /* Landmarks for the faces' boxes (dlib convention), on dlib's gray image. */
 frig_status fr_detect_landmarks_on(frig_ctx *ctx, const frig_detector *det, const frig_image *dlib_gray,
                                    fr_detected_face *faces, size_t count);
+
+/* ---- face-api's networks (detect_ssd.c) ---- */
+/* SSD faces of an upright RGB image: boxes (mapped to dlib's convention), scores, landmarks
+ * (face-api's net, or dlib's predictor on dlib_gray when det->landmark_source is 1) and
+ * descriptors. *faces is a new array (free() it). */
+frig_status fr_detect_ssd(frig_ctx *ctx, const frig_detector *det, const frig_image *image, fr_detected_face **faces,
+                          size_t *count);
+/* Descriptors for faces that have landmarks but none yet (cascade or user faces): the face
+ * chip aligned on their landmarks as the package aligns it. No-op without the networks. */
+frig_status fr_detect_descriptors(frig_ctx *ctx, const frig_detector *det, const frig_image *image,
+                                  fr_detected_face *faces, size_t count);
 
 /* ---- subject (subject.c) ---- */
 /* Outer eye corners' distance (points 36 and 45). */

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "raster/draw.h"
 #include "filter/contact_sheet.h"
 #include "image/image.h"
 
@@ -46,8 +47,20 @@ static void draw_number(frig_image *img, int x, int y, int value) {
     }
 }
 
+/* The identity distance at the bottom-left of a cell, on a dark strip. */
+static void draw_distance(frig_image *img, int x, int y, double d, double threshold) {
+    static const uint8_t yellow[3] = {255, 220, 60}, red[3] = {255, 90, 90}, dark[3] = {0, 0, 0};
+    char text[16];
+    snprintf(text, sizeof text, "%.2f", d);
+    int w, h;
+    fr_text_size(text, 1, &w, &h);
+    fill(img, x, y - h - 2, w + 2, h + 2, dark);
+    fr_draw_text(img, x + 1, y - h - 1, text, 1, d > threshold ? red : yellow);
+}
+
 frig_status fr_contact_sheet(frig_ctx *ctx, const fr_face_warp *warp, int count, const double *textures,
-                             const int *round_dropped, int columns, frig_image **out) {
+                             const int *round_dropped, const double *distances, double threshold, int columns,
+                             frig_image **out) {
     *out = NULL;
     if (!warp || count < 1 || columns < 1 || !textures || !round_dropped)
         return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "contact sheet of %d faces in %d columns", count, columns);
@@ -71,6 +84,7 @@ frig_status fr_contact_sheet(frig_ctx *ctx, const fr_face_warp *warp, int count,
             put(img, x0 + FRAME + index[k] % S, y0 + FRAME + index[k] / S, rgb);
         }
         if (round_dropped[i] > 0) draw_number(img, x0 + FRAME, y0 + FRAME, round_dropped[i]);
+        if (distances && !isnan(distances[i])) draw_distance(img, x0 + FRAME, y0 + FRAME + S, distances[i], threshold);
     }
     return FRIG_OK;
 }

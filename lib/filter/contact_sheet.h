@@ -9,8 +9,11 @@
 
 /* count textures (texels x count, normalized as by fr_face_texture; shown as 128 + 40 t) made with
  * 'warp'; round_dropped (count values, 0 = kept) frames a face in red and writes its round number.
- * columns: faces per row (>= 1). Returns a new RGB image (save it with frig_image_save_png). */
+ * columns: faces per row (>= 1). distances (NULL, or count values, NaN for none): each face's
+ * descriptor distance to the subject's identity, written at the bottom of its cell (red when
+ * over 'threshold'). Returns a new RGB image (save it with frig_image_save_png). */
 frig_status fr_contact_sheet(frig_ctx *ctx, const fr_face_warp *warp, int count, const double *textures,
-                             const int *round_dropped, int columns, frig_image **out);
+                             const int *round_dropped, const double *distances, double threshold, int columns,
+                             frig_image **out);
 
 #endif

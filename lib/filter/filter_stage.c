@@ -129,6 +129,8 @@ static int rechoose_subjects(stage *st, const fr_filter_model *model) {
         entry *e = &st->e[a];
         if (!e->image) continue;
         fr_photo *p = &st->set->photos[e->photo];
+        /* a subject the identity step chose (by face descriptors) stays */
+        if (p->subject >= 0 && !isnan(p->faces[p->subject].identity_distance)) continue;
         int nf = 0;
         size_t index[64];
         double lm[136 * 64];
@@ -178,17 +180,22 @@ static frig_status write_sheet(stage *st, const fr_filter_result *res, const cha
     int n = st->n, P = st->texels;
     double *tex = malloc(sizeof(double) * (size_t)P * (n ? n : 1));
     int *round = malloc(sizeof(int) * (size_t)(n ? n : 1));
+    double *dist = malloc(sizeof(double) * (size_t)(n ? n : 1));
     frig_image *sheet = NULL;
-    frig_status s = !tex || !round ? fr_nomem(st->ctx, "the contact sheet") : FRIG_OK;
+    frig_status s = !tex || !round || !dist ? fr_nomem(st->ctx, "the contact sheet") : FRIG_OK;
     for (int a = 0; !s && a < n; a++) {
         memcpy(tex + (size_t)P * a, st->e[a].texture, sizeof(double) * (size_t)P);
         round[a] = res[a].round_dropped;
+        const fr_face *f = fr_photo_subject(&st->set->photos[st->e[a].photo]);
+        dist[a] = f ? f->identity_distance : NAN; /* NaN when the identity step did not judge it */
     }
     int columns = (int)ceil(sqrt((double)n * 1.5));
-    if (!s) s = fr_contact_sheet(st->ctx, st->warp, n, tex, round, columns < 1 ? 1 : columns, &sheet);
+    if (!s)
+        s = fr_contact_sheet(st->ctx, st->warp, n, tex, round, dist, fr_param(st->ctx, FRIG_PARAM_IDENTITY_THRESHOLD),
+                             columns < 1 ? 1 : columns, &sheet);
     if (!s) s = frig_image_save_png(st->ctx, sheet, path);
     frig_image_free(sheet);
-    free(tex), free(round);
+    free(tex), free(round), free(dist);
     return s;
 }
 

@@ -15,6 +15,12 @@ struct frig_image {
 /* Allocate an image (zeroed); NULL when out of memory or sizes overflow. */
 frig_image *fr_image_new(int width, int height, int channels);
 
+/* Internal load flag: decode a JPEG as the npm decoder jpeg-js does (chroma repeated, its own
+ * floating-point YCbCr -> RGB), the decoder @vladmandic/face-api's reference answers use, so
+ * that its networks see the reference's pixels (to a grey level on about one sample in ten: the
+ * IDCTs differ). PNG and gray or CMYK JPEGs decode as usual. */
+#define FR_LOAD_LIKE_JPEG_JS (1u << 16)
+
 /* Decoders: 'name' is used in messages. The result is in stored orientation with
  * 'orientation' set from EXIF (1 when absent). */
 frig_status fr_jpeg_decode(frig_ctx *ctx, const char *name, const unsigned char *data, size_t size, unsigned flags,

@@ -49,6 +49,20 @@ static void cmyk_row_to_rgb(const uint8_t *cmyk, uint8_t *rgb, int width, int in
     }
 }
 
+static uint8_t clamp_truncate(double v) { return v < 0 ? 0 : v > 255 ? 255 : (uint8_t)v; }
+
+/* jpeg-js's colour conversion, in place: R = Y + 1.402 (Cr - 128), G = Y - 0.3441363 (Cb - 128)
+ * - 0.71413636 (Cr - 128), B = Y + 1.772 (Cb - 128), clamped and truncated as a Uint8Array
+ * store does. */
+static void ycbcr_row_like_jpeg_js(uint8_t *p, int width) {
+    for (int x = 0; x < width; x++, p += 3) {
+        double y = p[0], cb = p[1] - 128.0, cr = p[2] - 128.0;
+        p[0] = clamp_truncate(y + 1.402 * cr);
+        p[1] = clamp_truncate(y - 0.3441363 * cb - 0.71413636 * cr);
+        p[2] = clamp_truncate(y + 1.772 * cb);
+    }
+}
+
 static int exif_from_markers(struct jpeg_decompress_struct *cinfo) {
     for (jpeg_saved_marker_ptr m = cinfo->marker_list; m; m = m->next)
         if (m->marker == JPEG_APP0 + 1 && m->data_length > 6 && memcmp(m->data, "Exif\0\0", 6) == 0) {
@@ -96,6 +110,13 @@ frig_status fr_jpeg_decode(frig_ctx *ctx, const char *name, const unsigned char 
     int source_channels = cinfo.num_components;
     if (cmyk) cinfo.out_color_space = JCS_CMYK;
     else cinfo.out_color_space = gray ? JCS_GRAYSCALE : JCS_RGB;
+    /* jpeg-js (what @vladmandic/face-api's references decode with): chroma repeated, not
+     * interpolated, and its own floating-point YCbCr -> RGB, truncated. */
+    int like_js = (flags & FR_LOAD_LIKE_JPEG_JS) && !gray && !cmyk && cinfo.jpeg_color_space == JCS_YCbCr;
+    if (like_js) {
+        cinfo.out_color_space = JCS_YCbCr;
+        cinfo.do_fancy_upsampling = FALSE;
+    }
     if (reduce > 1) {
         cinfo.scale_num = 1;
         cinfo.scale_denom = (unsigned)reduce;
@@ -116,6 +137,7 @@ frig_status fr_jpeg_decode(frig_ctx *ctx, const char *name, const unsigned char 
         uint8_t *dst = img->pixels + (size_t)cinfo.output_scanline * img->stride;
         JSAMPROW row = cmyk ? (JSAMPROW)rowbuf : dst;
         jpeg_read_scanlines(&cinfo, &row, 1);
+        if (like_js) ycbcr_row_like_jpeg_js(dst, w);
         if (cmyk) {
             uint8_t *rgb = rowbuf + (size_t)w * 4;
             cmyk_row_to_rgb(rowbuf, gray ? rgb : dst, w, cinfo.saw_Adobe_marker);

@@ -7,7 +7,7 @@
 #include "workspace/photoset.h"
 
 static const char *const status_names[] = {"pending", "ok", "unreadable", "no_face", "face_too_small", "outlier",
-                                           "fit_failed", "duplicate"};
+                                           "fit_failed", "duplicate", "other_person"};
 
 const char *frig_photo_status_name(frig_photo_status s) {
     return (unsigned)s < sizeof status_names / sizeof status_names[0] ? status_names[s] : NULL;
@@ -128,7 +128,7 @@ frig_status frig_photoset_add_face(frig_ctx *ctx, frig_photoset *set, size_t i, 
                         p->path);
     if (landmarks && !finite_all(landmarks, 2 * FRIG_LANDMARK_COUNT))
         return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "%s: landmarks must be finite", p->path);
-    if ((unsigned)source > FRIG_FACE_USER)
+    if ((unsigned)source > FRIG_FACE_SSD)
         return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "unknown face source %d", (int)source);
     if (p->face_count == p->face_capacity) {
         size_t cap = p->face_capacity ? 2 * p->face_capacity : 4;
@@ -146,6 +146,7 @@ frig_status frig_photoset_add_face(frig_ctx *ctx, frig_photoset *set, size_t i, 
         memcpy(f->landmarks, landmarks, sizeof f->landmarks);
         f->has_landmarks = 1;
     }
+    f->identity_distance = NAN;
     if (face) *face = p->face_count;
     p->face_count++;
     return FRIG_OK;

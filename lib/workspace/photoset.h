@@ -3,6 +3,7 @@
 #ifndef FR_WORKSPACE_PHOTOSET_H
 #define FR_WORKSPACE_PHOTOSET_H
 
+#include "frig/identity.h"
 #include "frig/photoset.h"
 
 typedef struct fr_face {
@@ -11,6 +12,11 @@ typedef struct fr_face {
     int source;
     int has_landmarks;
     double landmarks[2 * FRIG_LANDMARK_COUNT];
+    /* identity (lib/identity, descriptors from lib/detect): face-api's 128-D descriptor, and
+     * its distance to the set's identity (NaN until the identity step judged the photo) */
+    int has_descriptor;
+    float descriptor[FRIG_DESCRIPTOR_SIZE];
+    double identity_distance;
 } fr_face;
 
 typedef struct fr_photo {
@@ -44,6 +50,13 @@ struct frig_photoset {
     double *identity;
     int n_expressions;
     char **expression_names;
+    /* identity (lib/identity): the subject's descriptor (the medoid of the dominant cluster),
+     * the threshold used, the photos in the cluster, and where the medoid came from */
+    int has_subject_id;
+    float subject_id[FRIG_DESCRIPTOR_SIZE];
+    double subject_id_threshold;
+    size_t subject_id_photos;
+    long subject_id_photo, subject_id_face;
 };
 
 /* Set the fit's shape spaces (drops earlier fit results if the sizes change). */
@@ -53,6 +66,15 @@ frig_status fr_photoset_set_fit_spaces(frig_ctx *ctx, frig_photoset *set, int n_
 frig_status fr_photoset_set_fit(frig_ctx *ctx, frig_photoset *set, size_t photo, const double R[9], const double t[3],
                                 double focal, int perspective, const double *expression, double error_px,
                                 int in_joint);
+
+/* Identity fields in report.json (identity_report.c): a face's "descriptor" and
+ * "identity_distance", the set's "identity" block. */
+struct fr_json;
+void fr_report_write_face_identity(struct fr_json *j, const fr_face *f);
+void fr_report_write_set_identity(struct fr_json *j, const frig_photoset *set);
+/* 0 on success, else a sentence in why (size bytes). */
+int fr_report_read_face_identity(fr_face *f, const void *json_face, char *why, size_t size);
+int fr_report_read_set_identity(frig_photoset *set, const void *json_root, char *why, size_t size);
 
 /* The subject face, or NULL when the photo has none (or it has no landmarks). */
 const fr_face *fr_photo_subject(const fr_photo *photo);

@@ -13,7 +13,7 @@
 #define REPORT_NAME "report.json"
 #define REPORT_VERSION 1
 
-static const char *const source_names[] = {"frontal", "profile", "profile_mirrored", "user"};
+static const char *const source_names[] = {"frontal", "profile", "profile_mirrored", "user", "ssd"};
 
 static void write_face(fr_json *j, const fr_face *f) {
     fr_json_object(j, NULL);
@@ -32,6 +32,7 @@ static void write_face(fr_json *j, const fr_face *f) {
         }
         fr_json_end(j);
     }
+    fr_report_write_face_identity(j, f);
     fr_json_end(j);
 }
 
@@ -90,7 +91,7 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
     s = fr_atomic_open(ctx, path, &af);
     free(path);
     if (s) return s;
-    size_t counts[FRIG_PHOTO_DUPLICATE + 1] = {0};
+    size_t counts[FRIG_PHOTO_OTHER_PERSON + 1] = {0};
     for (size_t i = 0; i < set->count; i++) counts[set->photos[i].status]++;
     fr_json j;
     fr_json_begin(&j, af.fp);
@@ -100,7 +101,7 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
     fr_json_string(&j, "frig", FRIG_VERSION_STRING);
     fr_json_object(&j, "summary");
     fr_json_int(&j, "photos", (long long)set->count);
-    for (int k = 0; k <= FRIG_PHOTO_DUPLICATE; k++)
+    for (int k = 0; k <= FRIG_PHOTO_OTHER_PERSON; k++)
         if (counts[k]) fr_json_int(&j, frig_photo_status_name((frig_photo_status)k), (long long)counts[k]);
     fr_json_end(&j);
     if (set->n_identity || set->n_expressions) {
@@ -111,6 +112,7 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
         fr_json_end(&j);
         fr_json_end(&j);
     }
+    fr_report_write_set_identity(&j, set);
     fr_json_array(&j, "photos", 0);
     for (size_t i = 0; i < set->count; i++) write_photo(&j, set, &set->photos[i]);
     fr_json_end(&j);
@@ -151,7 +153,7 @@ static frig_status read_face(reader *r, frig_photoset *set, const cJSON *jf) {
     double box[4], lm[2 * FRIG_LANDMARK_COUNT];
     if (!read_numbers(cJSON_GetObjectItemCaseSensitive(jf, "box"), box, 4)) return bad(r, "a face box is not 4 numbers");
     const cJSON *score = cJSON_GetObjectItemCaseSensitive(jf, "score");
-    int source = lookup_name(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jf, "source")), source_names, 4);
+    int source = lookup_name(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jf, "source")), source_names, 5);
     if (source < 0) return bad(r, "a face has an unknown source");
     const cJSON *jl = cJSON_GetObjectItemCaseSensitive(jf, "landmarks");
     int has = 0;
@@ -163,10 +165,12 @@ static frig_status read_face(reader *r, frig_photoset *set, const cJSON *jf) {
             if (!read_numbers(e, lm + 2 * k, 2)) return bad(r, "a landmark is not an [x, y] pair");
         has = 1;
     }
+    size_t face = 0;
     frig_status s = frig_photoset_add_face(r->ctx, set, r->photo, box, cJSON_IsNumber(score) ? score->valuedouble : 0,
-                                           (frig_face_source)source, has ? lm : NULL, NULL);
-    if (!s) return FRIG_OK;
+                                           (frig_face_source)source, has ? lm : NULL, &face);
     char why[256];
+    if (!s && fr_report_read_face_identity(&set->photos[r->photo].faces[face], jf, why, sizeof why)) return bad(r, why);
+    if (!s) return FRIG_OK;
     snprintf(why, sizeof why, "%s", frig_ctx_errmsg(r->ctx));
     return bad(r, why);
 }
@@ -230,8 +234,8 @@ static frig_status read_photo(reader *r, frig_photoset *set, const cJSON *jp) {
     if (!file) return bad(r, "no \"file\"");
     int status = lookup_name(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jp, "status")),
                              (const char *const[]){"pending", "ok", "unreadable", "no_face", "face_too_small",
-                                                   "outlier", "fit_failed", "duplicate"},
-                             8);
+                                                   "outlier", "fit_failed", "duplicate", "other_person"},
+                             9);
     if (status < 0) return bad(r, "unknown \"status\"");
     size_t idx;
     frig_status s = frig_photoset_add(r->ctx, set, file, &idx);
@@ -303,6 +307,9 @@ frig_status frig_photoset_load(frig_ctx *ctx, const char *workspace, frig_photos
         if (!s) s = read_fit_spaces(ctx, path, set, root);
         for (const cJSON *jp = cJSON_IsArray(photos) ? photos->child : NULL; jp && !s; jp = jp->next, r.photo++)
             s = read_photo(&r, set, jp);
+        char why[256];
+        if (!s && fr_report_read_set_identity(set, root, why, sizeof why))
+            s = fr_error(ctx, FRIG_ERR_CORRUPT, "%s: %s", path, why);
     }
     cJSON_Delete(root);
     free(path);
