@@ -22,9 +22,9 @@
 
 const char cmd_run_usage[] =
     "usage: frig run PHOTO|FOLDER|VIDEO... -o OUT|NAME.glb [--model FILE] [--cascades DIR]\n"
-    "                [--landmark-model FILE] [--no-report]\n"
+    "                [--landmark-model FILE] [--face-models DIR] [--no-report]\n"
     "\n"
-    "The whole pipeline: frames from videos, detect, filter, fit, export, and a report page\n"
+    "The whole pipeline: frames from videos, detect, identity, filter, fit, export, and a report page\n"
     "(docs/run.md). Writes OUT/rig.glb, OUT/shapes/*.obj and OUT/report.html (open it first),\n"
     "OUT/report.json (every photo's fate) and the workspace the stage commands read (frig\n"
     "export -w OUT ...). With -o NAME.glb the rig is NAME.glb and NAME_shapes/, the rest\n"
@@ -38,9 +38,9 @@ const char cmd_run_usage[] =
     "\n"
     "  -o OUT               the run's folder (created; a rerun reuses it)\n"
     "  --model FILE         the face model (default: $FRIG_MODEL or the user data folder)\n"
-    "  --cascades DIR, --landmark-model FILE   detector data (see frig help detect)\n"
+    "  --cascades DIR, --landmark-model FILE, --face-models DIR   detector data (frig help detect)\n"
     "  --no-report          skip report.html\n"
-    "Parameters: run.*, detect.*, filter.*, fit.*, export.* (frig help params).\n";
+    "Parameters: run.*, detect.*, identity.*, filter.*, fit.*, export.* (frig help params).\n";
 
 static run_ctx *signalled;
 
@@ -424,6 +424,7 @@ int cmd_run(cli_env *env, int argc, char **argv) {
         else if (strcmp(a, "--model") == 0 && has_value) r->model_given = argv[++i];
         else if (strcmp(a, "--cascades") == 0 && has_value) r->cascades = argv[++i];
         else if (strcmp(a, "--landmark-model") == 0 && has_value) r->landmark_model = argv[++i];
+        else if (strcmp(a, "--face-models") == 0 && has_value) r->face_models = argv[++i];
         else if (strcmp(a, "--no-report") == 0) r->no_report = 1;
         else if (a[0] == '-' && a[1]) rc = cli_usage_error("run", "unknown or incomplete option '%s' (see frig help run)", a);
         else rc = cli_inputs_add("run", &inputs, a, 1);

@@ -61,7 +61,7 @@ struct run_ctx {
     cli_env *env;
     char out[4096];       /* the run's folder (the workspace) */
     cli_rig_paths rig;    /* where rig.glb and the OBJ folder go */
-    const char *model_given, *cascades, *landmark_model;
+    const char *model_given, *cascades, *landmark_model, *face_models;
     int no_report;
     run_source *sources;
     size_t source_count;

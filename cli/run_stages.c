@@ -12,6 +12,7 @@
 #include <frig/detect.h>
 #include <frig/filter.h>
 #include <frig/fit.h>
+#include <frig/identity.h>
 
 #include "run.h"
 
@@ -147,6 +148,19 @@ static int detect_options(run_ctx *r, cJSON *opts) {
     add_file_hash(opts, "frontal_cascade", path);
     add_file_hash(opts, "landmark_model",
                   r->landmark_model ? r->landmark_model : "/usr/share/dlib/shape_predictor_68_face_landmarks.dat");
+    /* face-api's networks, when they are used: their files by content */
+    const char *models = r->face_models ? r->face_models : getenv("FRIG_FACE_MODELS");
+    if (!models) models = "/usr/local/share/frig/face-api/model";
+    char **files;
+    size_t n;
+    if (run_list_files(models, &files, &n) == 0) {
+        cJSON *list = cJSON_AddObjectToObject(opts, "face_models");
+        for (size_t i = 0; i < n; i++) {
+            add_file_hash(list, strrchr(files[i], '/') + 1, files[i]);
+            free(files[i]);
+        }
+        free(files);
+    }
     return CLI_OK;
 }
 
@@ -188,7 +202,7 @@ static int detect_run(run_ctx *r) {
     while (first < n && frig_photoset_status(set, first) != FRIG_PHOTO_PENDING) first++;
     if (resume && first) run_progress_stage(r, "resuming at photo %zu of %zu", first + 1, n);
     frig_detector *det = NULL;
-    if (first < n && frig_detector_create(env->ctx, r->cascades, r->landmark_model, &det)) {
+    if (first < n && frig_detector_create_with(env->ctx, r->cascades, r->landmark_model, r->face_models, &det)) {
         frig_photoset_free(set);
         return cli_fail(env, "run");
     }
@@ -221,6 +235,39 @@ static int detect_run(run_ctx *r) {
         for (size_t i = 0; i < n; i++) ok += frig_photoset_status(set, i) == FRIG_PHOTO_OK;
         run_summary(r, "%zu photos, %zu with a usable face%s%s",
                  n, ok, dropped[0] ? "; " : "", dropped);
+        rc = run_check_enough(r, set, 0);
+    }
+    frig_photoset_free(set);
+    return rc;
+}
+
+/* ---- identity: who is in each photo (face descriptors; docs/identity.md) ---- */
+
+static int identity_run(run_ctx *r) {
+    frig_photoset *set = NULL;
+    int rc = run_load_set(r, &set);
+    if (rc) return rc;
+    if (frig_identify_photoset(r->env->ctx, set)) {
+        if (frig_ctx_status(r->env->ctx) == FRIG_ERR_TOO_FEW) { /* no dominant person: say so, stop */
+            snprintf(r->stop, sizeof r->stop, "%s", frig_ctx_errmsg(r->env->ctx));
+            rc = RUN_STOP;
+        } else {
+            rc = fail_or_interrupted(r);
+        }
+    }
+    if (rc == CLI_OK || rc == RUN_STOP) {
+        int save = run_save_set(r, set);
+        if (save) rc = save;
+    }
+    if (rc == CLI_OK) {
+        float id[FRIG_DESCRIPTOR_SIZE];
+        size_t other = 0;
+        for (size_t i = 0; i < frig_photoset_count(set); i++) other += frig_photoset_status(set, i) == FRIG_PHOTO_OTHER_PERSON;
+        if (frig_photoset_identity_descriptor(set, id))
+            run_summary(r, "%zu photo%s of other people set aside (identity.threshold %g)", other, other == 1 ? "" : "s",
+                        frig_ctx_get_param(r->env->ctx, FRIG_PARAM_IDENTITY_THRESHOLD));
+        else
+            run_summary(r, "no face descriptors (face-api's networks not installed): subjects as detect chose");
         rc = run_check_enough(r, set, 0);
     }
     frig_photoset_free(set);
@@ -345,6 +392,9 @@ const run_stage run_stages[] = {
      "frames", 0, has_videos, frames_options, frames_run},
     {"detect", "faces and 68 landmarks per photo (section 4.2)", "detect. image.", "the photos, OpenCV's cascades, dlib's landmark model",
      "stages/detect/report.json overlays/detect", "stages/detect/report.json", 1, NULL, detect_options, detect_run},
+    {"identity", "who is in each photo: the set's dominant person, photos of others set aside", "identity.",
+     "report.json (the faces' descriptors)", "stages/identity/report.json", "stages/identity/report.json", 1, NULL, NULL,
+     identity_run},
     {"filter", "failed detections dropped by robust PCA (Algorithm 1)", "filter. image.max_pixels", "report.json, the photos",
      "stages/filter/report.json filter_contact_sheet.png", "stages/filter/report.json", 1, NULL, NULL, filter_run},
     {"fit", "camera, pose and expression per photo, one identity (sections 4.3-4.4)", "fit. image.",

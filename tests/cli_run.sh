@@ -32,14 +32,14 @@ run "$tmp/clean" > "$tmp/clean.out" 2> "$tmp/clean.err"; check '[ $? = 0 ]'
 cat "$tmp/clean.err"
 check '[ -s "$tmp/clean/rig.glb" ] && [ -f "$tmp/clean/shapes/neutral.obj" ] && [ -s "$tmp/clean/report.json" ]'
 check 'grep -q "^rig: $tmp/clean/rig.glb and $tmp/clean/shapes/$" "$tmp/clean.out"'
-for s in detect filter fit export; do check '[ -s "$tmp/clean/stages/'$s'/stage.json" ]'; done
+for s in detect identity filter fit export; do check '[ -s "$tmp/clean/stages/'$s'/stage.json" ]'; done
 check '[ ! -e "$tmp/clean/stages/frames" ] && [ ! -e "$tmp/clean/stages/detect/partial" ]'
 check '[ "$(cd "$photos" && sha256sum * | sha256sum)" = "$before" ]'   # inputs untouched
 
 # Nothing changed: every stage up to date, the rig not rewritten.
 stamp=$(stat -c %Y.%y "$tmp/clean/rig.glb")
 run "$tmp/clean" > /dev/null 2> "$tmp/again.err"; check '[ $? = 0 ]'
-check '[ $(grep -c "up to date" "$tmp/again.err") = 4 ] && [ "$(stat -c %Y.%y "$tmp/clean/rig.glb")" = "$stamp" ]'
+check '[ $(grep -c "up to date" "$tmp/again.err") = 5 ] && [ "$(stat -c %Y.%y "$tmp/clean/rig.glb")" = "$stamp" ]'
 # Another export option: detect, filter and fit are kept.
 cp "$tmp/clean/rig.glb" "$tmp/base.glb"
 run "$tmp/clean" --set export.eye_overlays=0 > /dev/null 2> "$tmp/ov.err"; check '[ $? = 0 ]'

@@ -63,4 +63,10 @@ check '[ -s "$tmp/report.png" ]'
 grep "CONSOLE" "$tmp/chromium.log" | head
 check '! grep "CONSOLE" "$tmp/chromium.log" | grep -qi "error\|failed"'
 check '! grep -qi "net::ERR\|Failed to load resource" "$tmp/chromium.log"'
+# On a terminal: one bar redrawn in place, with the stage, its step, item i of n and the time.
+if command -v script > /dev/null; then
+  script -qec "'$F' --threads 2 --set export.eye_overlays=0 --set export.texture_size=128 --set run.video_frames=14 run '$photos' '$tmp/clip.mkv' --model '$M' -o '$tmp/out'" /dev/null > "$tmp/tty" 2>&1
+  check 'grep -q "\[7/7 report\] contact_sheet *\[[#.]*\] [0-9]*/56  0:[0-9][0-9]" "$tmp/tty"'
+  check 'grep -q "identity .*up to date" "$tmp/tty" && ! grep -q "export .*up to date" "$tmp/tty"'
+fi
 exit $fail
