@@ -5,9 +5,9 @@
  *   neutral_raw_mm  the same without alignment (what a per-vertex scorer in the rig's frame sees);
  *   eb_mm           E_B: the aligned mean distance of every full shape (neutral + delta), averaged
  *                   over the shapes;
- *   delta_mm        the delta error over moving vertices: per shape, the mean |d - d_true| over
- *                   the face vertices the true delta moves by more than MOVING_MM, averaged over
- *                   the shapes;
+ *   delta_mm        the delta error over moving vertices: the mean |d - d_true| over every
+ *                   (shape, face vertex) whose true delta moves it by more than MOVING_MM (as
+ *                   bench/rig_error.c measures it);
  *   head_raw_mm, head_delta_mm: neutral_raw_mm and delta_mm over every vertex of the head (the
  *                   exported OBJ files' vertices) instead of the face region.
  * Shapes are matched by name; a shape the truth lacks is skipped. */
@@ -20,7 +20,7 @@
 #include "eval/shape_error.h"
 #include "frig/frig.h"
 
-#define MOVING_MM 1.0
+#define MOVING_MM 0.1
 
 typedef struct rig_score {
     double neutral_mm, neutral_raw_mm, eb_mm, delta_mm;
@@ -43,6 +43,8 @@ static inline rig_score rig_score_arrays(const frig_rig *truth, const float *neu
                                   const float *const *deltas, int nf) {
     rig_score r = {0, 0, 0, 0, 0, 0, 0};
     int nv = frig_rig_vertex_count(truth);
+    double pooled = 0, hpooled = 0;
+    long n_pooled = 0, n_hpooled = 0;
     const float *tn = frig_rig_neutral(truth);
     r.neutral_mm = 1e3 * fr_aligned_mean_distance(tn, neutral, nf);
     r.neutral_raw_mm = 1e3 * raw_mean_distance(tn, neutral, nf);
@@ -73,11 +75,13 @@ static inline rig_score rig_score_arrays(const frig_rig *truth, const float *neu
             if (sqrt(m) > 1e-3 * MOVING_MM) err += sqrt(e), moving++;
         }
         r.eb_mm += 1e3 * fr_aligned_mean_distance(a, b, nf);
-        if (moving) r.delta_mm += 1e3 * err / moving;
-        if (moving + hmoving) r.head_delta_mm += 1e3 * (err + herr) / (moving + hmoving);
+        pooled += err, n_pooled += moving;
+        hpooled += err + herr, n_hpooled += moving + hmoving;
         r.shapes++;
     }
-    if (r.shapes) r.eb_mm /= r.shapes, r.delta_mm /= r.shapes, r.head_delta_mm /= r.shapes;
+    if (r.shapes) r.eb_mm /= r.shapes;
+    r.delta_mm = n_pooled ? 1e3 * pooled / n_pooled : NAN;
+    r.head_delta_mm = n_hpooled ? 1e3 * hpooled / n_hpooled : NAN;
     free(a), free(b);
     return r;
 }
