@@ -163,6 +163,26 @@ typedef enum frig_param {
     FRIG_PARAM_SYNTH_SHADOWS = 505,         /* share of photos whose key light casts hard shadows (default 0.5) */
     FRIG_PARAM_SYNTH_SPECULAR = 506,        /* strength of the skin's specular highlights, 0 = none (default 1) */
 
+    /* sfs (section 5.1, Algorithms 4-5; docs/sfs.md) */
+    FRIG_PARAM_SFS_FACE_PX = 600,           /* the face's longer side in the crop at most, pixels (default 160) */
+    FRIG_PARAM_SFS_ROUNDS = 601,            /* rounds of the shape shared by all photos (default 3) */
+    FRIG_PARAM_SFS_ITERATIONS = 602,        /* Gauss-Newton iterations of each photo's depth (default 3) */
+    FRIG_PARAM_SFS_W_NORMAL = 604,          /* smoothness of the normals' change (default 1) */
+    FRIG_PARAM_SFS_W_ANCHOR = 605,          /* eq. 5.13: depth held to the reference depth (default 1) */
+    FRIG_PARAM_SFS_SIGMA = 606,             /* data residual scale, relative intensity (default 0.02) */
+    FRIG_PARAM_SFS_E_MAX = 607,             /* eq. 5.15 E_max, relative intensity error (default 0.07) */
+    FRIG_PARAM_SFS_D_MAX = 608,             /* eq. 5.15 d_max, mm from the reference depth (default 5) */
+    FRIG_PARAM_SFS_MIN_SKIN = 609,          /* sfs_failed below this share of skin in the face (default 0.3) */
+    FRIG_PARAM_SFS_MAX_CLIPPED = 610,       /* sfs_failed above this share of clipped face pixels (default 0.3) */
+    FRIG_PARAM_SFS_MIN_LUMA = 611,          /* sfs_failed when the face's median 8-bit luma is below this (default 60) */
+    FRIG_PARAM_SFS_MIN_AGREEMENT = 612,     /* sfs_failed below this albedo correlation with the subject's (default 0.1) */
+    FRIG_PARAM_SFS_MIN_POINTS = 613,        /* sfs_failed with fewer cloud points (default 500) */
+    FRIG_PARAM_SFS_TEXTURE_SIZE = 614,      /* side of the UV albedo texture (default 512) */
+    FRIG_PARAM_SFS_POSE = 615,              /* 1: refine each photo's pose against its depth (default 1) */
+    FRIG_PARAM_SFS_TRANSFER = 616,          /* Reinhard colour transfer of the albedo to each photo: 0 off, 1 means, 2 means and spreads (default 0) */
+    FRIG_PARAM_SFS_W_PRIOR = 617,           /* normals held to the multi-view shape's normals (default 10) */
+    FRIG_PARAM_SFS_SHAPE_SIZE = 618,        /* side of the UV grid of the shape shared by all photos (default 128) */
+
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */
     FRIG_PARAM_IDENTITY_CLUSTER_RADIUS = 801, /* faces this close count as one person when finding the identity */

@@ -19,6 +19,7 @@
 #include "frig/fit.h"
 #include "frig/synth.h"
 #include "frig/clouds.h"
+#include "frig/sfs.h"
 #include "frig/retarget.h"
 
 #endif /* FRIG_FRIG_H */

@@ -24,8 +24,10 @@ typedef enum frig_photo_status {
     FRIG_PHOTO_OUTLIER = 5,    /* dropped by the filter stage (robust PCA, Algorithm 1) */
     FRIG_PHOTO_FIT_FAILED = 6, /* the model fit did not converge to anything usable */
     FRIG_PHOTO_DUPLICATE = 7,  /* the same bytes as an earlier photo of the set (reason names it) */
-    FRIG_PHOTO_OTHER_PERSON = 8 /* no face in it is the subject's: its nearest face's descriptor is
-                                   farther than identity.threshold from the set's identity (frig/identity.h) */
+    FRIG_PHOTO_OTHER_PERSON = 8, /* no face in it is the subject's: its nearest face's descriptor is
+                                    farther than identity.threshold from the set's identity (frig/identity.h) */
+    FRIG_PHOTO_SFS_FAILED = 9    /* shape from shading could not read the face: too little skin, over- or
+                                  * under-exposed, colours unlike the subject's (reason says which) */
 } frig_photo_status;
 
 /* "ok", "no_face", ... (the report's spelling); NULL for an unknown value. */
@@ -111,6 +113,22 @@ FRIG_API double frig_photoset_fit_error(const frig_photoset *set, size_t photo);
 FRIG_API int frig_photoset_fit_in_joint(const frig_photoset *set, size_t photo);
 /* The subject's identity weights (standard deviations of the model's identity modes). */
 FRIG_API int frig_photoset_identity(const frig_photoset *set, const double **weights);
+
+/* ---- shape-from-shading results (section 5.1; frig_sfs) ---- */
+/* 1 when the photo has shape-from-shading results (its cloud may still be empty when the photo
+ * is sfs_failed). */
+FRIG_API int frig_photoset_sfs_done(const frig_photoset *set, size_t photo);
+/* Face pixels of the crop, pixels kept in the cloud (eq. 5.15), and the median relative shading
+ * error |I - a S(n)| / |a S(n)| over the skin pixels. Any output may be NULL. */
+FRIG_API frig_status frig_photoset_sfs_stats(const frig_photoset *set, size_t photo, size_t *pixels, size_t *kept,
+                                             double *error);
+/* The lighting: 9 second-order SH coefficients per channel (R, G, B), irradiance
+ * E_c(n) = sum_k sh[9 c + k] Y_k(n) with n in camera coordinates (docs/sfs.md). */
+FRIG_API frig_status frig_photoset_sfs_lighting(const frig_photoset *set, size_t photo, double sh[27]);
+/* The head pose refined against the recovered depth (model -> camera, as frig_photoset_fit_pose);
+ * the fit's pose is kept as it was. The cloud is in the head frame of this pose. */
+FRIG_API frig_status frig_photoset_sfs_pose(const frig_photoset *set, size_t photo, double rotation[9],
+                                            double translation[3]);
 
 #ifdef __cplusplus
 }

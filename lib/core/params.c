@@ -100,6 +100,45 @@ static const param_row rows[] = {
     {FRIG_PARAM_SYNTH_SPECULAR, "synth.specular", 1, 0, 10, 0,
      "strength of synthetic skin's specular highlights relative to the default (0: matte skin)"},
 
+
+    /* sfs (docs/sfs.md) */
+    {FRIG_PARAM_SFS_FACE_PX, "sfs.face_px", 160, 16, 4096, 1,
+     "shape from shading works on a crop whose face (longer side) is at most this many pixels"},
+    {FRIG_PARAM_SFS_ROUNDS, "sfs.rounds", 3, 0, 20, 1,
+     "rounds of the shape shared by all photos (albedo, displacement, lighting; Algorithm 4's outer loop); 0: none"},
+    {FRIG_PARAM_SFS_ITERATIONS, "sfs.iterations", 3, 1, 100, 1, "Gauss-Newton iterations of each photo's depth"},
+    {FRIG_PARAM_SFS_W_NORMAL, "sfs.w_normal", 1, 0, 1e9, 0,
+     "weight keeping the change of the normals smooth (second differences of the depth correction)"},
+    {FRIG_PARAM_SFS_W_ANCHOR, "sfs.w_anchor", 1, 0, 1e9, 0,
+     "eq. 5.13: weight holding each photo's depth to its reference (the rig with the shared shape; per pixel, depth "
+     "in pixels)"},
+    {FRIG_PARAM_SFS_SIGMA, "sfs.sigma", 0.02, 1e-4, 1, 0,
+     "relative intensity error of one standard deviation in the data term"},
+    {FRIG_PARAM_SFS_E_MAX, "sfs.e_max", 0.07, 0, 10, 0,
+     "eq. 5.15 E_max: pixels with a larger relative shading error are left out of the cloud"},
+    {FRIG_PARAM_SFS_D_MAX, "sfs.d_max", 5, 0, 1000, 0,
+     "eq. 5.15 d_max: pixels whose depth moved more than this many mm from the reference are left out"},
+    {FRIG_PARAM_SFS_MIN_SKIN, "sfs.min_skin", 0.3, 0, 1, 0,
+     "a photo whose face region is less skin than this share is sfs_failed"},
+    {FRIG_PARAM_SFS_MAX_CLIPPED, "sfs.max_clipped", 0.3, 0, 1, 0,
+     "a photo with more clipped (over-exposed) face pixels than this share is sfs_failed"},
+    {FRIG_PARAM_SFS_MIN_LUMA, "sfs.min_luma", 60, 0, 255, 0,
+     "a photo whose face's median 8-bit luma is below this is under-exposed (no shading to read): sfs_failed"},
+    {FRIG_PARAM_SFS_MIN_AGREEMENT, "sfs.min_agreement", 0.1, -1, 1, 0,
+     "a photo whose luminance rank-correlates less than this with what the subject's albedo and its lighting "
+     "predict is sfs_failed"},
+    {FRIG_PARAM_SFS_MIN_POINTS, "sfs.min_points", 500, 0, 1e9, 1, "a photo with fewer cloud points is sfs_failed"},
+    {FRIG_PARAM_SFS_TEXTURE_SIZE, "sfs.texture_size", 512, 64, 8192, 1,
+     "side of the subject's albedo texture in the model's UV space (textures/albedo.png)"},
+    {FRIG_PARAM_SFS_POSE, "sfs.pose", 1, 0, 1, 1, "1: refine each photo's head pose against its recovered depth"},
+    {FRIG_PARAM_SFS_TRANSFER, "sfs.transfer", 0, 0, 2, 1,
+     "Reinhard colour transfer of the subject's albedo to each photo: 0 off (best measured on synthetic subjects), "
+     "1 the l-alpha-beta means, 2 means and spreads"},
+    {FRIG_PARAM_SFS_W_PRIOR, "sfs.w_prior", 10, 0, 1e9, 0,
+     "weight holding each photo's normals to those of the shape recovered from all photos"},
+    {FRIG_PARAM_SFS_SHAPE_SIZE, "sfs.shape_size", 128, 16, 2048, 1,
+     "side of the UV grid on which the shape shared by all photos is solved (texels of the model's face layout)"},
+
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,
      "a photo whose face nearest the subject's identity is farther than this (descriptor distance) is other_person"},

@@ -11,3 +11,7 @@ double fr_linear_to_srgb(double c) {
     if (c >= 1.0) return 1.0;
     return c <= 0.0031308 ? 12.92 * c : 1.055 * pow(c, 1.0 / 2.4) - 0.055;
 }
+
+void fr_srgb_decode_table(float table[256]) {
+    for (int i = 0; i < 256; i++) table[i] = (float)fr_srgb_to_linear(i / 255.0);
+}

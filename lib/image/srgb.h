@@ -6,4 +6,7 @@ double fr_srgb_to_linear(double c);
 /* Clamped to [0, 1]. */
 double fr_linear_to_srgb(double c);
 
+/* The 256 linear values of 8-bit sRGB codes. */
+void fr_srgb_decode_table(float table[256]);
+
 #endif

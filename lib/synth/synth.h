@@ -7,10 +7,11 @@
 #include <stdint.h>
 
 #include "core/rng.h"
-#include "image/srgb.h"
 #include "frig/synth.h"
+#include "image/srgb.h"
 #include "raster/camera.h"
 #include "raster/raster.h"
+#include "raster/sh_lighting.h"
 
 #define FR_SYNTH_LANDMARKS 68
 #define FR_SYNTH_MAX_ACTIVE 5 /* expression shapes active in one photo (4 + a paired jawOpen) */
@@ -182,11 +183,6 @@ int fr_synth_sunglasses_at(const fr_synth_photo *p, double x, double y, double *
 /* Draw the sunglasses over a linear RGB buffer rendered at 'scale' times the photo's size. */
 void fr_synth_draw_sunglasses(const fr_synth_photo *p, int w, int h, double scale, float *rgb);
 
-/* Second-order spherical harmonics (sh_lighting.c): the 9 real basis functions at unit n. */
-void fr_sh_basis(const double n[3], double y[9]);
-/* Irradiance coefficients of a distant light: 'ambient' uniform radiance plus a directional
- * light of irradiance 'direct' from unit direction d (pointing toward the light). */
-void fr_sh_irradiance_coeffs(const double d[3], double direct, double ambient, double coeffs[9]);
 
 /* Background of a photo into a linear RGB buffer (w x h x 3) (background.c). */
 void fr_synth_background(const fr_synth_photo *p, int w, int h, double scale, float *rgb);

@@ -6,8 +6,12 @@
 #include "core/context.h"
 #include "workspace/photoset.h"
 
-static const char *const status_names[] = {"pending", "ok", "unreadable", "no_face", "face_too_small", "outlier",
-                                           "fit_failed", "duplicate", "other_person"};
+static const char *const status_names[] = {
+    [FRIG_PHOTO_PENDING] = "pending",       [FRIG_PHOTO_OK] = "ok",
+    [FRIG_PHOTO_UNREADABLE] = "unreadable", [FRIG_PHOTO_NO_FACE] = "no_face",
+    [FRIG_PHOTO_FACE_TOO_SMALL] = "face_too_small", [FRIG_PHOTO_OUTLIER] = "outlier",
+    [FRIG_PHOTO_FIT_FAILED] = "fit_failed", [FRIG_PHOTO_DUPLICATE] = "duplicate",
+    [FRIG_PHOTO_OTHER_PERSON] = "other_person", [FRIG_PHOTO_SFS_FAILED] = "sfs_failed"};
 
 const char *frig_photo_status_name(frig_photo_status s) {
     return (unsigned)s < sizeof status_names / sizeof status_names[0] ? status_names[s] : NULL;

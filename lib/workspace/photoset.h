@@ -6,6 +6,9 @@
 #include "frig/identity.h"
 #include "frig/photoset.h"
 
+/* One past the largest photo status number (names may have gaps: frig_photo_status_name). */
+#define FR_PHOTO_STATUS_LIMIT 16
+
 typedef struct fr_face {
     double box[4]; /* x, y, w, h */
     double score;
@@ -45,6 +48,12 @@ typedef struct fr_photo {
     int retargeted;
     int rt_inliers;
     double rt_rms_mm, rt_rigid_deg, rt_rigid_mm;
+    /* sfs (section 5.1): what the cloud was made of, the lighting, the refined pose */
+    int sfs_done;
+    int sfs_pixels, sfs_kept;
+    double sfs_error;
+    double sfs_lighting[27]; /* 9 per channel */
+    double sfs_rotation[9], sfs_translation[3];
 } fr_photo;
 
 /* retarget (section 5.3): one round of the outer loop. */
@@ -99,6 +108,9 @@ void fr_report_write_set_identity(struct fr_json *j, const frig_photoset *set);
 /* 0 on success, else a sentence in why (size bytes). */
 int fr_report_read_face_identity(fr_face *f, const void *json_face, char *why, size_t size);
 int fr_report_read_set_identity(frig_photoset *set, const void *json_root, char *why, size_t size);
+/* Record one photo's shape-from-shading results (sfs_report.c). */
+void fr_photoset_set_sfs(fr_photo *p, int pixels, int kept, double error, const double lighting[27], const double R[9],
+                         const double t[3]);
 
 /* The subject face, or NULL when the photo has none (or it has no landmarks). */
 const fr_face *fr_photo_subject(const fr_photo *photo);

@@ -9,6 +9,7 @@
 #include "io/file.h"
 #include "io/json_writer.h"
 #include "workspace/photoset.h"
+#include "workspace/sfs_report.h"
 
 #define REPORT_NAME "report.json"
 #define REPORT_VERSION 1
@@ -79,6 +80,7 @@ static void write_photo(fr_json *j, const frig_photoset *set, const fr_photo *p)
     }
     if (p->fitted) write_fit(j, set, p);
     fr_retarget_report_write_photo(j, p);
+    if (p->sfs_done) fr_report_write_sfs(j, p);
     fr_json_end(j);
 }
 
@@ -92,7 +94,7 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
     s = fr_atomic_open(ctx, path, &af);
     free(path);
     if (s) return s;
-    size_t counts[FRIG_PHOTO_OTHER_PERSON + 1] = {0};
+    size_t counts[FR_PHOTO_STATUS_LIMIT] = {0};
     for (size_t i = 0; i < set->count; i++) counts[set->photos[i].status]++;
     fr_json j;
     fr_json_begin(&j, af.fp);
@@ -102,8 +104,8 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
     fr_json_string(&j, "frig", FRIG_VERSION_STRING);
     fr_json_object(&j, "summary");
     fr_json_int(&j, "photos", (long long)set->count);
-    for (int k = 0; k <= FRIG_PHOTO_OTHER_PERSON; k++)
-        if (counts[k]) fr_json_int(&j, frig_photo_status_name((frig_photo_status)k), (long long)counts[k]);
+    for (int k = 0; k < FR_PHOTO_STATUS_LIMIT; k++)
+        if (counts[k] && frig_photo_status_name((frig_photo_status)k)) fr_json_int(&j, frig_photo_status_name((frig_photo_status)k), (long long)counts[k]);
     fr_json_end(&j);
     if (set->n_identity || set->n_expressions) {
         fr_json_object(&j, "fit");
@@ -234,10 +236,11 @@ static frig_status read_fit_spaces(frig_ctx *ctx, const char *path, frig_photose
 static frig_status read_photo(reader *r, frig_photoset *set, const cJSON *jp) {
     const char *file = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jp, "file"));
     if (!file) return bad(r, "no \"file\"");
-    int status = lookup_name(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jp, "status")),
-                             (const char *const[]){"pending", "ok", "unreadable", "no_face", "face_too_small",
-                                                   "outlier", "fit_failed", "duplicate", "other_person"},
-                             9);
+    const char *sname = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jp, "status"));
+    int status = -1;
+    for (int k = 0; sname && k < FR_PHOTO_STATUS_LIMIT && status < 0; k++)
+        if (frig_photo_status_name((frig_photo_status)k) && !strcmp(sname, frig_photo_status_name((frig_photo_status)k)))
+            status = k;
     if (status < 0) return bad(r, "unknown \"status\"");
     size_t idx;
     frig_status s = frig_photoset_add(r->ctx, set, file, &idx);
@@ -269,6 +272,8 @@ static frig_status read_photo(reader *r, frig_photoset *set, const cJSON *jp) {
     }
     const cJSON *fit = cJSON_GetObjectItemCaseSensitive(jp, "fit");
     if (cJSON_IsObject(fit) && (s = read_fit(r, set, idx, fit))) return s;
+    const cJSON *sfs = cJSON_GetObjectItemCaseSensitive(jp, "sfs");
+    if (cJSON_IsObject(sfs) && !fr_report_read_sfs(sfs, &set->photos[idx])) return bad(r, "\"sfs\" is malformed");
     return fr_retarget_report_read_photo(r->ctx, set, idx, jp);
 }
 

@@ -1,0 +1,231 @@
+/* The sfs stage on synthetic ground truth, photo by photo (paper section 5.1 measured as
+ * section 7.2 measures point clouds, E_P): for a workspace made from one frig synth subject's
+ * photos (detect -> filter -> fit), the stage's computation in memory, then per photo the
+ * cloud's error against the true posed surface after a similarity alignment (mean, median, p90
+ * mm over the kept points), next to the same for the shared-shape reference and for the fitted
+ * mesh over the same pixels; the rotation error of the fit and of the refined pose; with the
+ * truth's class maps, the share of bad pixels (cast shadow, highlight, occluder, hair) that the
+ * skin mask and region selection remove and of good skin they keep; the neutral of the rig with
+ * the shared displacement against the true neutral; and the stage's time.
+ * --truth-pose replaces the fit's pose and camera by the truth's (--truth-weights the
+ * expression weights too): where the error lives.
+ * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
+ *                 [--truth-weights] [--quiet] */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "bench_param.h"
+#include "core/context.h"
+#include "eval/cloud_error.h"
+#include "eval/shape_error.h"
+#include "frig/frig.h"
+#include "raster/raster.h"
+#include "raster/rotation.h"
+#include "rig/rig.h"
+#include "sfs/sfs.h"
+#include "sfs/sfs_run.h"
+#include "sfs_truth.h"
+#include "workspace/photoset.h"
+
+static double now(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return ts.tv_sec + 1e-9 * ts.tv_nsec;
+}
+
+/* Head-frame points of the pixels in 'sel' from depth z through the view's camera and (R, t). */
+static int points(const fr_sfs_view *v, const float *z, const uint8_t *sel, const double R[9], const double t[3],
+                  double *out) {
+    int n = 0;
+    for (int y = 0; y < v->h; y++)
+        for (int x = 0; x < v->w; x++) {
+            size_t i = (size_t)y * v->w + x;
+            if (!sel[i] || !(z[i] > 0)) continue;
+            double c[3] = {z[i] * (x - v->cam.cx) / v->cam.f - t[0], z[i] * (y - v->cam.cy) / v->cam.f - t[1], z[i] - t[2]};
+            for (int k = 0; k < 3; k++) out[3 * n + k] = R[k] * c[0] + R[3 + k] * c[1] + R[6 + k] * c[2];
+            n++;
+        }
+    return n;
+}
+
+static void aligned(frig_ctx *ctx, const fr_tri_tree *ix, const double *p, int n, double st[3]) {
+    double *d = malloc(sizeof(double) * (size_t)(n + 1)), s, R[9], t[3];
+    fr_cloud_align(ctx, ix, p, n, 10, 0.01, d, &s, R, t);
+    int m = 0;
+    for (int i = 0; i < n; i++)
+        if (isfinite(d[i])) d[m++] = d[i];
+    fr_error_stats(d, m, &st[0], &st[1], &st[2]);
+    for (int k = 0; k < 3; k++) st[k] *= 1000;
+    free(d);
+}
+
+static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int weights) {
+    for (size_t i = 0; i < set->count; i++) {
+        fr_photo *p = &set->photos[i];
+        bench_truth tr;
+        memset(&tr, 0, sizeof tr);
+        if (p->fitted && bench_truth_load(p->path, truth_rig, &tr) && tr.has_face) {
+            memcpy(p->fit_rotation, tr.R, sizeof tr.R);
+            memcpy(p->fit_translation, tr.t, sizeof tr.t);
+            p->fit_focal = tr.f;
+            for (int e = 0; e < set->n_expressions && weights; e++) {
+                int k = frig_rig_shape_find(truth_rig, set->expression_names[e]);
+                p->fit_expression[e] = k >= 0 ? tr.weights[k] : 0;
+            }
+        }
+        bench_truth_free(&tr);
+    }
+}
+
+int main(int argc, char **argv) {
+    if (argc < 3) {
+        fprintf(stderr, "usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose] "
+                        "[--truth-weights] [--quiet]\n");
+        return 2;
+    }
+    frig_ctx *ctx = frig_ctx_create();
+    int truth_pose = 0, truth_weights = 0, quiet = 0;
+    for (int i = 3; i < argc; i++) {
+        if (!strcmp(argv[i], "--set") && i + 1 < argc) {
+            if (bench_set_param(ctx, argv[++i])) return 2;
+        } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) frig_ctx_set_threads(ctx, atoi(argv[++i]));
+        else if (!strcmp(argv[i], "--truth-pose")) truth_pose = 1;
+        else if (!strcmp(argv[i], "--truth-weights")) truth_pose = truth_weights = 1;
+        else if (!strcmp(argv[i], "--quiet")) quiet = 1;
+        else {
+            fprintf(stderr, "unknown argument %s\n", argv[i]);
+            return 2;
+        }
+    }
+    char path[4096];
+    frig_rig *rig = NULL, *truth_rig = NULL;
+    frig_photoset *set = NULL;
+    snprintf(path, sizeof path, "%s/rig/rig.frigrig", argv[2]);
+    if (frig_rig_load(ctx, path, &rig)) goto fail;
+    snprintf(path, sizeof path, "%s/rig/rig.frigrig", argv[1]);
+    if (frig_rig_load(ctx, path, &truth_rig)) goto fail;
+    if (frig_photoset_load(ctx, argv[2], &set)) goto fail;
+    if (truth_pose) set_truth_fits(truth_rig, set, truth_weights);
+    fr_sfs_settings st;
+    fr_sfs_settings_from_ctx(ctx, &st);
+    double t0 = now();
+    fr_sfs_run run;
+    if (fr_sfs_run_all(ctx, rig, set, &st, &run)) goto fail;
+    double t1 = now();
+    printf("sfs computation over %d photos: %.2f s (%d threads)\n", run.n, t1 - t0, fr_threads(ctx));
+    if (run.vdisp) {
+        /* the rig's neutral with the shared displacement against the true neutral, narrow face, aligned */
+        int nv = run.mesh.nv, nf = 6706 < nv ? 6706 : nv;
+        float *a = malloc(sizeof(float) * 3 * (size_t)nv), *nr = malloc(sizeof(float) * 3 * (size_t)nv);
+        memcpy(a, frig_rig_neutral(rig), sizeof(float) * 3 * (size_t)nv);
+        double before = fr_aligned_mean_distance(frig_rig_neutral(truth_rig), a, nf);
+        fr_mesh_vertex_normals(a, nv, run.mesh.tris, run.mesh.nt, nr);
+        double rms = 0;
+        for (int q = 0; q < nv; q++) {
+            for (int c = 0; c < 3; c++) a[3 * q + c] += run.vdisp[q] * nr[3 * q + c];
+            if (q < nf) rms += (double)run.vdisp[q] * run.vdisp[q];
+        }
+        printf("neutral (narrow face, aligned): rig %.3f mm, with the shared displacement %.3f mm (displacement RMS %.3f mm)\n",
+               1e3 * before, 1e3 * fr_aligned_mean_distance(frig_rig_neutral(truth_rig), a, nf), 1e3 * sqrt(rms / nf));
+        free(a), free(nr);
+    }
+    fr_sfs_mesh tm;
+    if (fr_sfs_mesh_init(ctx, truth_rig, &tm)) goto fail;
+    float *txyz = malloc(sizeof(float) * 3 * (size_t)tm.nv);
+    int32_t *ftris = malloc(sizeof(int32_t) * 3 * (size_t)tm.nt);
+    int nft = 0;
+    for (int t = 0; t < tm.nt; t++)
+        if (tm.face[t]) memcpy(ftris + 3 * nft++, tm.tris + 3 * t, sizeof(int32_t) * 3);
+    if (!quiet)
+        printf("%-14s %6s %6s %6s %5s | %-20s | %-20s | %-20s\n", "photo", "yaw", "rot", "rot'", "kept", "cloud mean/med/p90",
+               "reference", "fit (same pixels)");
+    double *mc = malloc(sizeof(double) * (size_t)(run.n + 1)), *mr = malloc(sizeof(double) * (size_t)(run.n + 1));
+    double *mf = malloc(sizeof(double) * (size_t)(run.n + 1)), *rb = malloc(sizeof(double) * (size_t)(run.n + 1));
+    double *ra = malloc(sizeof(double) * (size_t)(run.n + 1));
+    long bad = 0, good = 0, bad_skin = 0, bad_kept = 0, good_skin = 0, good_kept = 0;
+    int rows = 0;
+    for (int k = 0; k < run.n; k++) {
+        const fr_photo *p = &set->photos[run.photo[k]];
+        fr_sfs_view *v = &run.views[k];
+        const char *base = strrchr(p->path, '/');
+        base = base ? base + 1 : p->path;
+        bench_truth tr;
+        int truth = bench_truth_load(p->path, truth_rig, &tr);
+        if (!run.ok[k]) {
+            if (!quiet) printf("%-14s (%s) sfs_failed: %s\n", base, truth ? tr.failure : "?", run.reason[k]);
+            bench_truth_free(&tr);
+            continue;
+        }
+        if (!truth || !tr.has_face) {
+            if (!quiet) printf("%-14s (%s) no face in the truth, not scored\n", base, truth ? tr.failure : "?");
+            bench_truth_free(&tr);
+            continue;
+        }
+        fr_sfs_select_region(v, &st);
+        double R2[9], t2[3];
+        memcpy(R2, v->R, sizeof R2), memcpy(t2, v->t, sizeof t2);
+        if (st.pose && v->kept_pixels >= 50) fr_sfs_refine_pose(ctx, &run.mesh, v, R2, t2);
+        size_t npx = (size_t)v->w * v->h;
+        if (tr.mask)
+            for (size_t q = 0; q < npx; q++) {
+                if (!v->face[q]) continue;
+                int x = (int)(q % v->w), y = (int)(q / v->w);
+                int px = (int)floor(v->x0 + (x + 0.5) / v->s), py = (int)floor(v->y0 + (y + 0.5) / v->s);
+                if (px < 0 || py < 0 || px >= tr.width || py >= tr.height) continue;
+                int m = tr.mask[(size_t)py * tr.width + px];
+                int b = (m & (4 | 8 | 16 | 32)) != 0, g = (m & 1) && (m & 2) && !b;
+                bad += b, good += g;
+                bad_skin += b && !v->skin[q], bad_kept += b && !v->kept[q];
+                good_skin += g && v->skin[q], good_kept += g && v->kept[q];
+            }
+        uint8_t *sel = malloc(npx);
+        for (size_t q = 0; q < npx; q++) sel[q] = v->kept[q] && v->z_fit[q] > 0 && v->z_ref[q] > 0;
+        double *pc = malloc(sizeof(double) * 3 * npx), *pr = malloc(sizeof(double) * 3 * npx);
+        double *pf = malloc(sizeof(double) * 3 * npx);
+        int nc = points(v, v->z, sel, R2, t2, pc), nr = points(v, v->z_ref, sel, v->R, v->t, pr);
+        int nf = points(v, v->z_fit, sel, v->R, v->t, pf);
+        fr_sfs_mesh_eval(&tm, tr.weights, txyz);
+        fr_tri_tree *ix = NULL;
+        fr_tri_tree_build(ctx, txyz, ftris, nft, &ix);
+        double c[3], r[3], f[3];
+        aligned(ctx, ix, pc, nc, c), aligned(ctx, ix, pr, nr, r), aligned(ctx, ix, pf, nf, f);
+        double yaw, pitch, roll;
+        fr_rotation_to_euler(tr.R, &yaw, &pitch, &roll);
+        rb[rows] = fr_rotation_angle_deg(p->fit_rotation, tr.R), ra[rows] = fr_rotation_angle_deg(R2, tr.R);
+        if (!quiet)
+            printf("%-14s %6.1f %6.2f %6.2f %5d | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f\n", base,
+                   yaw * 57.29578, rb[rows], ra[rows], nc, c[0], c[1], c[2], r[0], r[1], r[2], f[0], f[1], f[2]);
+        fflush(stdout);
+        mc[rows] = c[0], mr[rows] = r[0], mf[rows] = f[0];
+        rows++;
+        fr_tri_tree_free(ix);
+        free(sel), free(pc), free(pr), free(pf);
+        bench_truth_free(&tr);
+    }
+    double a[3], b[3], d[3], e[3], g[3];
+    fr_error_stats(mc, rows, &a[0], &a[1], &a[2]);
+    fr_error_stats(mr, rows, &b[0], &b[1], &b[2]);
+    fr_error_stats(mf, rows, &d[0], &d[1], &d[2]);
+    fr_error_stats(rb, rows, &e[0], &e[1], &e[2]);
+    fr_error_stats(ra, rows, &g[0], &g[1], &g[2]);
+    printf("%d photos scored; per-photo mean error, mean (median) over photos: cloud %.3f (%.3f) mm, reference %.3f (%.3f), "
+           "fit %.3f (%.3f); cloud / fit %.3f\n",
+           rows, a[0], a[1], b[0], b[1], d[0], d[1], d[0] > 0 ? a[0] / d[0] : NAN);
+    printf("rotation error: fit mean %.2f (median %.2f) deg, refined mean %.2f (median %.2f) deg\n", e[0], e[1], g[0], g[1]);
+    if (bad + good)
+        printf("region selection: bad pixels (shadow, highlight, occluder, hair) removed %.1f%% by the skin mask, %.1f%% "
+               "with eq. 5.15 (of %ld); good skin kept %.1f%% by the skin mask, %.1f%% with eq. 5.15 (of %ld)\n",
+               100.0 * bad_skin / (bad ? bad : 1), 100.0 * bad_kept / (bad ? bad : 1), bad,
+               100.0 * good_skin / (good ? good : 1), 100.0 * good_kept / (good ? good : 1), good);
+    free(mc), free(mr), free(mf), free(rb), free(ra), free(txyz), free(ftris);
+    fr_sfs_mesh_free(&tm);
+    fr_sfs_run_free(&run);
+    frig_photoset_free(set), frig_rig_free(rig), frig_rig_free(truth_rig), frig_ctx_free(ctx);
+    return 0;
+fail:
+    fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
+    return 1;
+}

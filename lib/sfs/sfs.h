@@ -1,0 +1,129 @@
+/* The shape-from-shading stage's inside (paper section 5.1, Algorithms 4-5): the rig as the
+ * stage draws it, one photo's view (its face crop and the rig rendered into it), the subject's
+ * albedo in the model's UV space, and the per-photo solvers. Internal. */
+#ifndef FR_SFS_SFS_H
+#define FR_SFS_SFS_H
+
+#include <stdint.h>
+
+#include "frig/frig.h"
+#include "raster/camera.h"
+#include "raster/sh_lighting.h"
+#include "skin/skin.h"
+
+/* ---- settings (the sfs.* parameters) ---- */
+typedef struct fr_sfs_settings {
+    double face_px;       /* the face's longer side in the crop is at most this many pixels */
+    int rounds;           /* albedo rounds (Algorithm 4's outer loop) after the first estimate */
+    int iterations;       /* Gauss-Newton iterations of the depth per round */
+    double w_normal;      /* the normals' change kept smooth (curvature of the depth correction) */
+    double w_anchor;      /* eq. 5.13: depth held to the fitted depth */
+    double w_prior;       /* normals held to those of the shape shared by all photos */
+    double sigma;         /* data residual scale: relative intensity error of one standard deviation */
+    double e_max;         /* eq. 5.15: largest SfS error kept, relative intensity */
+    double d_max_mm;      /* eq. 5.15: largest deviation from the fitted depth kept, mm */
+    double min_skin;      /* sfs_failed below this share of skin in the face region */
+    double max_clipped;   /* sfs_failed above this share of clipped face pixels */
+    double min_luma;      /* sfs_failed when the face's median 8-bit luma is below this */
+    double min_agreement; /* sfs_failed when the photo's albedo correlates less with the subject's */
+    int min_points;       /* sfs_failed with fewer points kept */
+    int texture_size;     /* side of the UV albedo texture written out */
+    int shape_size;       /* side of the UV grid of the shared shape */
+    int pose;             /* 1: refine the pose against the recovered depth (ICP) */
+    int transfer;         /* Reinhard transfer of the albedo to each photo: 0 off, 1 means, 2 means and spreads */
+} fr_sfs_settings;
+
+void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s);
+
+/* ---- the rig as the stage draws it ---- */
+typedef struct fr_sfs_mesh {
+    const frig_rig *rig;
+    int nv, shapes;
+    int nt;           /* triangles drawn (opaque materials) */
+    int32_t *tris;    /* 3 vertex indices per drawn triangle */
+    int32_t *tri_uv;  /* 3 uv indices per drawn triangle */
+    uint8_t *face;    /* per drawn triangle: 1 = the face material (skin the stage reads) */
+    uint8_t *core;    /* per drawn triangle: a face triangle of the narrow face (no neck, ears, scalp) */
+    const float *uvs; /* 2 per uv index */
+    uint8_t *face_vertex; /* per vertex: used by a face triangle */
+} fr_sfs_mesh;
+
+frig_status fr_sfs_mesh_init(frig_ctx *ctx, const frig_rig *rig, fr_sfs_mesh *m);
+void fr_sfs_mesh_free(fr_sfs_mesh *m);
+/* The rig at weights (one per rig shape; only non-zero weights are summed, in double, so the
+ * result does not depend on BLAS), 3 floats per vertex. */
+void fr_sfs_mesh_eval(const fr_sfs_mesh *m, const double *weights, float *xyz);
+
+/* ---- one photo's view ---- */
+typedef struct fr_sfs_view {
+    size_t photo;
+    int w, h;            /* crop size */
+    double x0, y0, s;    /* crop pixel (i, j)'s centre is photo point (x0 + (i + 0.5) / s - 0.5, ...) */
+    fr_camera cam;       /* the crop's camera */
+    double R[9], t[3];   /* the pose (head -> camera) the view was rendered with */
+    double *weights;     /* rig weights (m->shapes) */
+    float *xyz_cam;      /* posed vertices, camera frame (3 nv) */
+    float *vn_cam;       /* their unit normals, camera frame (3 nv) */
+    float *I;            /* linear RGB, 3 per pixel */
+    uint8_t *rgb;        /* the crop in 8-bit sRGB */
+    uint8_t *inside;     /* pixel centre inside the photo */
+    /* the rig rendered */
+    float *zbuf;         /* camera depth of whatever the rig shows at each pixel, 0 where nothing */
+    float *z_ref;        /* camera depth of the reference (the fit, later the displaced rig), 0 where not face */
+    float *z_fit;        /* camera depth of the fit itself (the first render), 0 where not face */
+    float *n_ref;        /* interpolated unit normals, camera frame (3 per pixel) */
+    int32_t *tri;        /* drawn triangle, -1 where none */
+    float *bary;         /* 3 per pixel */
+    uint8_t *face;       /* pixel shows a face triangle, seen from the front, inside the photo */
+    uint8_t *core;       /* of those, a narrow-face triangle (where the skin colour model is learnt) */
+    uint8_t *skin;       /* skin (fr_skin_detect over 'face') */
+    fr_skin_stats skin_stats;
+    float *n_prior;      /* reference normals for the depth (camera frame), 0 where none */
+    /* the solution */
+    double sh[3][FR_SH_COUNT]; /* lighting per channel */
+    float *albedo;       /* current albedo, linear RGB (3 per pixel) */
+    float *z;            /* recovered depth (camera z, metres), 0 where none */
+    float *normal;       /* recovered normals, camera frame (3 per pixel) */
+    float *err;          /* SfS error per pixel (relative), -1 where none */
+    uint8_t *kept;       /* region selection (eq. 5.15) */
+    float *confidence;
+    int face_pixels, data_pixels, kept_pixels;
+    double sfs_error;    /* median relative shading error over the skin pixels */
+    double agreement;    /* correlation of the photo's albedo with the subject's */
+    double photo_weight; /* weight of the photo's observations in the shared albedo and shape (from agreement) */
+    double R_refined[9], t_refined[3];
+    double pose_change_deg;
+} fr_sfs_view;
+
+/* Read photo p of the set, crop it around the face and render the rig at the photo's fit into
+ * the crop. 'fit_weights' are the set's fitted expression weights (names in the set). */
+frig_status fr_sfs_view_build(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_settings *st, const char *path,
+                              int photo_width, int photo_height, const double R[9], const double t[3], double focal,
+                              const double *weights, fr_sfs_view *v);
+void fr_sfs_view_free(fr_sfs_view *v);
+
+/* Render the rig at (R, t) into the view's crop: z_ref, n_ref, tri, bary, face (and xyz_cam,
+ * vn_cam, zbuf). disp (may be NULL): per vertex, a displacement in metres along the vertex
+ * normal of the rig at the view's weights (the subject's shape from all photos). */
+frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view *v, const double R[9],
+                               const double t[3], const float *disp);
+
+/* ---- region selection (eq. 5.15; sfs_region.c) and the pose (sfs_pose.c) ---- */
+/* v->kept and v->confidence from v->err, v->z, v->z_ref (st->e_max, st->d_max_mm). */
+void fr_sfs_select_region(fr_sfs_view *v, const fr_sfs_settings *st);
+/* The pose (head -> camera) that best fits the rig at the view's weights to its kept points. */
+frig_status fr_sfs_refine_pose(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view *v, double R[9], double t[3]);
+
+/* The photo's picture: skin mask, synthesized shading, error map, kept region (sfs_overlay.c). */
+frig_status fr_sfs_write_overlay(frig_ctx *ctx, const fr_sfs_view *v, const fr_sfs_settings *st, const char *label,
+                                 const char *path);
+
+/* ---- lighting (eq. 5.3-5.5) ---- */
+/* Least-squares SH lighting per channel: I_c = a_c sum_k l_ck Y_k(n) over the pixels with
+ * weight > 0 (weights NULL: mask), normals 3 per pixel. Returns the residual RMS (relative). */
+frig_status fr_sfs_fit_lighting(frig_ctx *ctx, int n, const uint8_t *mask, const float *I, const float *albedo,
+                                const float *normals, const float *weights, double sh[3][FR_SH_COUNT]);
+/* Shading S_c(n) = sum_k l_ck Y_k(n) clamped at 0. */
+void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[3]);
+
+#endif

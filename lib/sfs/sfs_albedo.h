@@ -1,0 +1,30 @@
+/* The subject's albedo in the model's UV space from all photos (paper Algorithm 5; sfs_albedo.c).
+ * Internal. */
+#ifndef FR_SFS_SFS_ALBEDO_H
+#define FR_SFS_SFS_ALBEDO_H
+
+#include "sfs/sfs.h"
+#include "sfs/sfs_uv.h"
+
+typedef struct fr_sfs_albedo {
+    int size;      /* T */
+    float *albedo; /* 3 per texel, linear RGB */
+    float *weight; /* per texel: sum of the observations' weights, 0 where unseen */
+} fr_sfs_albedo;
+
+frig_status fr_sfs_albedo_init(frig_ctx *ctx, const fr_sfs_uv *uv, fr_sfs_albedo *a);
+void fr_sfs_albedo_free(fr_sfs_albedo *a);
+
+/* Every texel's albedo from the views with use[k] != 0: their images divided by their shading
+ * (lighting v->sh on the rig's normals v->vn_cam), averaged with the view cosine times
+ * v->photo_weight as weights and Tukey's biweight against cast shadows, highlights and
+ * misregistered edges (eq. 5.14 and Algorithm 5's mean texture). Texels are independent
+ * (parallel, deterministic). sigma: relative intensity error of one standard deviation. */
+frig_status fr_sfs_albedo_solve(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *views,
+                                int nviews, const uint8_t *use, double sigma, fr_sfs_albedo *a);
+
+/* The texture's albedo at view v's face pixels (v->albedo; 'fallback' where no photo saw the
+ * texel) and the rig's normals as the view's normal prior (v->n_prior). */
+void fr_sfs_albedo_apply(const fr_sfs_mesh *m, const fr_sfs_albedo *a, fr_sfs_view *v, const double fallback[3]);
+
+#endif

@@ -1,0 +1,193 @@
+/* Lighting for shape from shading (paper eq. 5.3-5.5, Algorithm 4 line 11): nine spherical
+ * harmonics coefficients per colour channel by least squares, I_c = a_c sum_k l_ck Y_k(n), on
+ * the current normals and albedo, made robust to what the model does not explain (cast shadows,
+ * highlights, occluders) by iteratively reweighted least squares with Tukey's biweight on the
+ * relative residual. The basis is the renderer's (raster/sh_lighting.c).
+ * The normals a face shows cover less than a hemisphere, where the constant, z and 3z^2 - 1
+ * terms are nearly collinear: a free fit of a frontal face finds a large negative ambient
+ * balanced by large first- and second-order terms that explain its pixels and nothing else.
+ * So each round first finds the ambient + directional light (the clamped cosine's SH,
+ * fr_sh_irradiance_coeffs, non-negative strengths per channel, one direction searched on a
+ * sphere of directions and refined) that best explains the pixels, and then fits all nine
+ * terms held to it by a ridge of PRIOR_W times the mean diagonal. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "linalg/linalg.h"
+#include "sfs/sfs.h"
+
+#define IRLS_ROUNDS 4
+#define TUKEY_C 4.685
+#define PRIOR_W 0.05
+#define DIRECTIONS 400 /* the coarse sphere of light directions */
+#define REFINE 3       /* rounds of the local search around the best */
+
+void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[3]) {
+    double nd[3] = {n[0], n[1], n[2]}, y[FR_SH_COUNT];
+    fr_sh_basis(nd, y);
+    for (int c = 0; c < 3; c++) {
+        double e = 0;
+        for (int k = 0; k < FR_SH_COUNT; k++) e += sh[c][k] * y[k];
+        S[c] = e > 0 ? e : 0;
+    }
+}
+
+static int cmp_float(const void *a, const void *b) {
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* Per channel the weighted moments M = sum w a^2 Y Y^T and b = sum w a I Y. */
+static void moments(int n, const uint8_t *mask, const float *I, const float *albedo, const float *normals,
+                    const float *wt, const float *robust, double M[3][FR_SH_COUNT * FR_SH_COUNT],
+                    double b[3][FR_SH_COUNT]) {
+    memset(M, 0, sizeof(double) * 3 * FR_SH_COUNT * FR_SH_COUNT), memset(b, 0, sizeof(double) * 3 * FR_SH_COUNT);
+    for (int i = 0; i < n; i++) {
+        if (mask && !mask[i]) continue;
+        double w = (wt ? wt[i] : 1.0) * (robust ? robust[i] : 1.0);
+        if (!(w > 0)) continue;
+        double nd[3] = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]}, y[FR_SH_COUNT];
+        fr_sh_basis(nd, y);
+        for (int c = 0; c < 3; c++) {
+            double a = albedo[3 * i + c], wa2 = w * a * a, wai = w * a * I[3 * i + c];
+            for (int k = 0; k < FR_SH_COUNT; k++) {
+                b[c][k] += wai * y[k];
+                for (int l = 0; l <= k; l++) M[c][k * FR_SH_COUNT + l] += wa2 * y[k] * y[l];
+            }
+        }
+    }
+    for (int c = 0; c < 3; c++)
+        for (int k = 0; k < FR_SH_COUNT; k++)
+            for (int l = 0; l < k; l++) M[c][l * FR_SH_COUNT + k] = M[c][k * FR_SH_COUNT + l];
+}
+
+static double quad(const double *M, const double *u, const double *v) {
+    double s = 0;
+    for (int k = 0; k < FR_SH_COUNT; k++)
+        for (int l = 0; l < FR_SH_COUNT; l++) s += u[k] * M[k * FR_SH_COUNT + l] * v[l];
+    return s;
+}
+
+static double dot9(const double *u, const double *v) {
+    double s = 0;
+    for (int k = 0; k < FR_SH_COUNT; k++) s += u[k] * v[k];
+    return s;
+}
+
+/* For light direction d: per channel the non-negative ambient and direct strengths that
+ * minimize x^T M x - 2 b^T x with x = amb U + dir K(d); the summed energy, the coefficients. */
+static double directional_fit(const double M[3][FR_SH_COUNT * FR_SH_COUNT], const double b[3][FR_SH_COUNT],
+                              const double d[3], double sh[3][FR_SH_COUNT]) {
+    static const double U[FR_SH_COUNT] = {1.0 / 0.282094791773878, 0, 0, 0, 0, 0, 0, 0, 0};
+    double K[FR_SH_COUNT], e = 0;
+    fr_sh_irradiance_coeffs(d, 1.0, 0.0, K);
+    for (int c = 0; c < 3; c++) {
+        double a11 = quad(M[c], U, U), a12 = quad(M[c], U, K), a22 = quad(M[c], K, K);
+        double g1 = dot9(b[c], U), g2 = dot9(b[c], K), amb = 0, dir = 0;
+        double det = a11 * a22 - a12 * a12;
+        if (det > 1e-300) amb = (a22 * g1 - a12 * g2) / det, dir = (a11 * g2 - a12 * g1) / det;
+        if (!(amb >= 0 && dir >= 0)) {
+            /* on the boundary: one of the two alone, the better of the two */
+            double amb1 = a11 > 0 ? fmax(0, g1 / a11) : 0, dir2 = a22 > 0 ? fmax(0, g2 / a22) : 0;
+            double e1 = a11 * amb1 * amb1 - 2 * g1 * amb1, e2 = a22 * dir2 * dir2 - 2 * g2 * dir2;
+            if (e1 <= e2) amb = amb1, dir = 0;
+            else amb = 0, dir = dir2;
+        }
+        for (int k = 0; k < FR_SH_COUNT; k++) sh[c][k] = amb * U[k] + dir * K[k];
+        e += quad(M[c], sh[c], sh[c]) - 2 * dot9(b[c], sh[c]);
+    }
+    return e;
+}
+
+/* The ambient + directional light that explains the moments best (a sphere of directions, then
+ * finer and finer caps around the best). */
+static void best_directional(const double M[3][FR_SH_COUNT * FR_SH_COUNT], const double b[3][FR_SH_COUNT],
+                             double sh[3][FR_SH_COUNT]) {
+    double best = INFINITY, bd[3] = {0, 0, -1}, tmp[3][FR_SH_COUNT];
+    for (int i = 0; i < DIRECTIONS; i++) {
+        /* a Fibonacci sphere */
+        double z = 1 - (2.0 * i + 1) / DIRECTIONS, r = sqrt(fmax(0, 1 - z * z)), phi = 2.399963229728653 * i;
+        double d[3] = {r * cos(phi), r * sin(phi), z};
+        double e = directional_fit(M, b, d, tmp);
+        if (e < best) best = e, memcpy(bd, d, sizeof bd);
+    }
+    double step = 0.15;
+    for (int round = 0; round < REFINE; round++, step *= 0.35) {
+        double centre[3] = {bd[0], bd[1], bd[2]};
+        for (int a = -3; a <= 3; a++)
+            for (int c = -3; c <= 3; c++) {
+                double d[3] = {centre[0] + a * step / 3 * (fabs(centre[0]) < 0.9), centre[1] + c * step / 3,
+                               centre[2] + a * step / 3 * (fabs(centre[0]) >= 0.9)};
+                double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+                for (int k = 0; k < 3; k++) d[k] /= l;
+                double e = directional_fit(M, b, d, tmp);
+                if (e < best) best = e, memcpy(bd, d, sizeof bd);
+            }
+    }
+    directional_fit(M, b, bd, sh);
+}
+
+/* All nine terms per channel, held to the prior by the ridge. */
+static frig_status full_fit(frig_ctx *ctx, const double M[3][FR_SH_COUNT * FR_SH_COUNT], const double b[3][FR_SH_COUNT],
+                            const double prior[3][FR_SH_COUNT], double sh[3][FR_SH_COUNT]) {
+    for (int c = 0; c < 3; c++) {
+        double A[FR_SH_COUNT * FR_SH_COUNT], x[FR_SH_COUNT], tr = 0;
+        memcpy(A, M[c], sizeof A);
+        for (int k = 0; k < FR_SH_COUNT; k++) tr += A[k * FR_SH_COUNT + k];
+        double ridge = PRIOR_W * tr / FR_SH_COUNT + 1e-300;
+        for (int k = 0; k < FR_SH_COUNT; k++) A[k * FR_SH_COUNT + k] += ridge, x[k] = b[c][k] + ridge * prior[c][k];
+        frig_status s = fr_solve_spd(ctx, FR_SH_COUNT, 1, A, FR_SH_COUNT, x, FR_SH_COUNT);
+        if (s) return s;
+        memcpy(sh[c], x, sizeof x);
+    }
+    return FRIG_OK;
+}
+
+/* Relative residual |I - a S| / |a S| (RMS over the channels) at pixel i. */
+static double residual(const double sh[3][FR_SH_COUNT], const float *I, const float *albedo, const float *normals,
+                       int i) {
+    double S[3], num = 0, den = 0;
+    fr_sfs_shading(sh, normals + 3 * (size_t)i, S);
+    for (int c = 0; c < 3; c++) {
+        double m = albedo[3 * i + c] * S[c], d = I[3 * i + c] - m;
+        num += d * d, den += m * m;
+    }
+    return sqrt(num / fmax(den, 1e-12));
+}
+
+frig_status fr_sfs_fit_lighting(frig_ctx *ctx, int n, const uint8_t *mask, const float *I, const float *albedo,
+                                const float *normals, const float *weights, double sh[3][FR_SH_COUNT]) {
+    float *robust = malloc(sizeof(float) * (size_t)(n + 1)), *r = malloc(sizeof(float) * (size_t)(n + 1));
+    double (*M)[FR_SH_COUNT * FR_SH_COUNT] = malloc(sizeof(double) * 3 * FR_SH_COUNT * FR_SH_COUNT);
+    double b[3][FR_SH_COUNT], prior[3][FR_SH_COUNT];
+    if (!robust || !r || !M) {
+        free(robust), free(r), free(M);
+        return fr_nomem(ctx, "the lighting fit");
+    }
+    for (int i = 0; i < n; i++) robust[i] = 1.0f;
+    frig_status s = FRIG_OK;
+    for (int round = 0; round < IRLS_ROUNDS && !s; round++) {
+        moments(n, mask, I, albedo, normals, weights, robust, M, b);
+        best_directional((const double (*)[FR_SH_COUNT * FR_SH_COUNT])M, (const double (*)[FR_SH_COUNT])b, prior);
+        s = full_fit(ctx, (const double (*)[FR_SH_COUNT * FR_SH_COUNT])M, (const double (*)[FR_SH_COUNT])b,
+                     (const double (*)[FR_SH_COUNT])prior, sh);
+        if (s || round == IRLS_ROUNDS - 1) break;
+        int m = 0;
+        for (int i = 0; i < n; i++) {
+            if (mask && !mask[i]) continue;
+            r[m++] = (float)residual(sh, I, albedo, normals, i);
+        }
+        if (m < 10) break;
+        qsort(r, (size_t)m, sizeof *r, cmp_float);
+        double scale = fmax(1.4826 * r[m / 2], 0.005); /* residuals are >= 0: their median as the spread */
+        for (int i = 0; i < n; i++) {
+            if (mask && !mask[i]) continue;
+            double u = residual(sh, I, albedo, normals, i) / (TUKEY_C * scale);
+            robust[i] = u < 1 ? (float)((1 - u * u) * (1 - u * u)) : 0.0f;
+        }
+    }
+    free(robust), free(r), free(M);
+    return s;
+}

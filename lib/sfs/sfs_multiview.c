@@ -1,0 +1,487 @@
+/* Shape from shading from all photos at once in UV space (beyond the paper's per-photo
+ * section 5.1; the integrable form of photometric stereo, cf. Woodham 1980 and multi-view
+ * photometric stereo): the unknown is one displacement D(t) per face texel t along the rig's
+ * normal, shared by all photos, so photo k sees the surface
+ *     P_k(t) = X_k(t) + D(t) n_k(t)
+ * (X_k, n_k: the rig at photo k's expression, head frame), whose normal comes from the texel
+ * grid's forward differences, N_k(t) ~ (P_k(t+x) - P_k(t)) x (P_k(t+y) - P_k(t)). Minimized by
+ * Gauss-Newton with Levenberg-Marquardt damping:
+ *     sum_k sum_t sum_c rho((a_c(t) S_kc(R_k N_k(t)) - I_kc(t)) / (sigma Ibar))
+ *   + w_smooth sum |second differences of D|^2 + w_anchor sum D^2,
+ * alternating with the albedo a(t) (closed form per texel) and each photo's lighting S_k (least
+ * squares, eq. 5.3-5.5). One photo constrains a normal only along its light; photos under other
+ * lights and head turns constrain the rest, and the shared displacement is integrable by
+ * construction. The normal equations have the texel grid's small stencil (CHOLMOD, one analysis). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "raster/raster.h"
+#include "raster/rotation.h"
+#include "sfs/sfs_multiview.h"
+#include "sparse/sparse.h"
+
+#define TUKEY_C 4.685
+#define INTENSITY_FLOOR 0.03
+#define VISIBLE_TOL 0.004
+#define MIN_COS 0.25
+#define MM 1e-3
+
+void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
+    o->outer = 3;
+    o->iterations = 4;
+    o->sigma = 0.03;
+    o->w_smooth = 30.0;
+    o->w_anchor = 0.05;
+    o->max_mm = 12.0;
+}
+
+/* One photo's view of the texels: the rig's texel points and normals at its expression, and
+ * what the photo shows there. */
+typedef struct photo_texels {
+    float *X, *n;   /* 3 per texel, head frame */
+    float *I;       /* 3 per texel */
+    float *w;       /* per texel: 0 = not seen, else the view cosine */
+} photo_texels;
+
+typedef struct mv {
+    const fr_sfs_mesh *m;
+    const fr_sfs_uv *uv;
+    fr_sfs_view *views;
+    int nviews;
+    const uint8_t *use;
+    const fr_sfs_multiview_options *o;
+    int nt;             /* texels */
+    int *right, *down;  /* neighbour texel numbers, -1 */
+    signed char *sign;  /* orientation of the grid's cross product against the normal */
+    photo_texels *pt;
+    double *D;          /* per texel, mm */
+    double *D_try, *delta, *rhs, *H;  /* H: 6 per texel */
+    float *albedo;      /* 3 per texel */
+} mv;
+
+static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
+    out[0] = out[1] = out[2] = 0;
+    for (int c = 0; c < 3; c++)
+        for (int q = 0; q < 3; q++) out[q] += b[c] * attr[3 * (size_t)tri[c] + q];
+}
+
+/* The photo's texel points and normals at its expression (head frame). */
+static frig_status photo_geometry(frig_ctx *ctx, mv *s, int k) {
+    const fr_sfs_mesh *m = s->m;
+    const fr_sfs_view *v = &s->views[k];
+    photo_texels *p = &s->pt[k];
+    float *xyz = malloc(sizeof(float) * 3 * (size_t)m->nv), *nrm = malloc(sizeof(float) * 3 * (size_t)m->nv);
+    if (!xyz || !nrm) {
+        free(xyz), free(nrm);
+        return fr_nomem(ctx, "the multi-view solve");
+    }
+    fr_sfs_mesh_eval(m, v->weights, xyz);
+    fr_mesh_vertex_normals(xyz, m->nv, m->tris, m->nt, nrm);
+    for (int t = 0; t < s->nt; t++) {
+        const int32_t *tri = m->tris + 3 * (size_t)s->uv->tri[t];
+        const float *b = s->uv->bary + 3 * (size_t)t;
+        double X[3], n[3];
+        interp(xyz, tri, b, X);
+        interp(nrm, tri, b, n);
+        double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+        for (int q = 0; q < 3; q++) p->X[3 * t + q] = (float)X[q], p->n[3 * t + q] = (float)(l > 0 ? n[q] / l : 0);
+    }
+    free(xyz), free(nrm);
+    return FRIG_OK;
+}
+
+/* What photo k shows at each texel's displaced point (visibility from the rig's render). */
+static void photo_sample(mv *s, int k) {
+    const fr_sfs_view *v = &s->views[k];
+    photo_texels *p = &s->pt[k];
+    for (int t = 0; t < s->nt; t++) {
+        p->w[t] = 0;
+        double P[3], X[3], xy[2];
+        for (int q = 0; q < 3; q++) P[q] = p->X[3 * t + q] + s->D[t] * MM * p->n[3 * t + q];
+        fr_mat3_apply(v->R, P, X);
+        for (int q = 0; q < 3; q++) X[q] += v->t[q];
+        if (!fr_camera_project(&v->cam, X, xy)) continue;
+        int px = (int)floor(xy[0] + 0.5), py = (int)floor(xy[1] + 0.5);
+        if (px < 0 || py < 0 || px >= v->w || py >= v->h) continue;
+        size_t i = (size_t)py * v->w + px;
+        if (!v->skin[i] || !v->face[i] || !(v->zbuf[i] > 0) || X[2] > v->zbuf[i] + VISIBLE_TOL) continue;
+        double nc[3], nh[3] = {p->n[3 * t], p->n[3 * t + 1], p->n[3 * t + 2]};
+        fr_mat3_apply(v->R, nh, nc);
+        double ray[3] = {X[0], X[1], X[2]}, rl = sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
+        double cosv = -(nc[0] * ray[0] + nc[1] * ray[1] + nc[2] * ray[2]) / rl;
+        if (cosv < MIN_COS) continue;
+        double smp[3];
+        fr_sfs_bilinear(v->I, v->w, v->h, xy, smp);
+        for (int c = 0; c < 3; c++) p->I[3 * (size_t)t + c] = (float)smp[c];
+        p->w[t] = (float)(cosv * v->photo_weight);
+    }
+}
+
+/* The displaced surface's unit normal at texel t in photo k (head frame), and its derivatives
+ * by D(t), D(right), D(down) (each 3, per mm). Returns 0 when t has no normal. */
+static int texel_normal(const mv *s, const double *D, int k, int t, double N[3], double dN[3][3]) {
+    int r = s->right[t], d = s->down[t];
+    if (r < 0 || d < 0) return 0;
+    const photo_texels *p = &s->pt[k];
+    double P0[3], Pr[3], Pd[3], ex[3], ey[3], c[3];
+    for (int q = 0; q < 3; q++) {
+        P0[q] = p->X[3 * t + q] + D[t] * MM * p->n[3 * t + q];
+        Pr[q] = p->X[3 * r + q] + D[r] * MM * p->n[3 * r + q];
+        Pd[q] = p->X[3 * d + q] + D[d] * MM * p->n[3 * d + q];
+        ex[q] = Pr[q] - P0[q], ey[q] = Pd[q] - P0[q];
+    }
+    c[0] = ex[1] * ey[2] - ex[2] * ey[1], c[1] = ex[2] * ey[0] - ex[0] * ey[2], c[2] = ex[0] * ey[1] - ex[1] * ey[0];
+    double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+    if (!(l > 0)) return 0;
+    double sg = s->sign[t];
+    for (int q = 0; q < 3; q++) N[q] = sg * c[q] / l;
+    if (!dN) return 1;
+    /* dc/dD_t = ex x n_t - ... : de_x/dD_t = -n_t, de_y/dD_t = -n_t, de_x/dD_r = n_r, de_y/dD_d = n_d */
+    const float *nt = p->n + 3 * (size_t)t, *nr = p->n + 3 * (size_t)r, *nd = p->n + 3 * (size_t)d;
+    double dc[3][3];
+    for (int q = 0; q < 3; q++) {
+        int a = (q + 1) % 3, b = (q + 2) % 3;
+        /* (-n_t) x ey + ex x (-n_t) */
+        dc[0][q] = MM * (-(nt[a] * ey[b] - nt[b] * ey[a]) - (ex[a] * nt[b] - ex[b] * nt[a]));
+        dc[1][q] = MM * (nr[a] * ey[b] - nr[b] * ey[a]);
+        dc[2][q] = MM * (ex[a] * nd[b] - ex[b] * nd[a]);
+    }
+    for (int j = 0; j < 3; j++) {
+        double proj = (dc[j][0] * N[0] + dc[j][1] * N[1] + dc[j][2] * N[2]) * sg;
+        for (int q = 0; q < 3; q++) dN[j][q] = sg * (dc[j][q] - sg * proj * N[q]) / l;
+    }
+    return 1;
+}
+
+static double tukey_w(double u) {
+    u /= TUKEY_C;
+    return fabs(u) < 1 ? (1 - u * u) * (1 - u * u) : 0;
+}
+
+static double tukey_rho(double u) {
+    double c2 = TUKEY_C * TUKEY_C;
+    if (fabs(u) >= TUKEY_C) return c2 / 6.0;
+    double q = 1 - (u / TUKEY_C) * (u / TUKEY_C);
+    return c2 / 6.0 * (1 - q * q * q);
+}
+
+/* Shading of photo k for head-frame normal N, and its gradient by N (per channel, 3). */
+static void shade(const fr_sfs_view *v, const double N[3], double S[3], double G[3][3]) {
+    double nc[3], y[FR_SH_COUNT], dy[3 * FR_SH_COUNT];
+    fr_mat3_apply(v->R, N, nc);
+    if (G) fr_sh_basis_gradient(nc, y, dy);
+    else fr_sh_basis(nc, y);
+    for (int c = 0; c < 3; c++) {
+        double e = 0, g[3] = {0, 0, 0};
+        for (int k = 0; k < FR_SH_COUNT; k++) {
+            e += v->sh[c][k] * y[k];
+            if (G)
+                for (int q = 0; q < 3; q++) g[q] += v->sh[c][k] * dy[3 * k + q];
+        }
+        S[c] = e > 0 ? e : 0;
+        if (G)
+            for (int q = 0; q < 3; q++) /* d/dN of S(R N) = R^T g */
+                G[c][q] = e > 0 ? v->R[q] * g[0] + v->R[3 + q] * g[1] + v->R[6 + q] * g[2] : 0;
+    }
+}
+
+static double obs_scale(const mv *s, const float *I) {
+    double m = (I[0] + I[1] + I[2]) / 3.0;
+    return s->o->sigma * (m > INTENSITY_FLOOR ? m : INTENSITY_FLOOR);
+}
+
+/* The data energy of texel t over all photos (robust), with displacement D. */
+static double texel_energy(const mv *s, const double *D, int t) {
+    double e = 0, N[3], S[3];
+    for (int k = 0; k < s->nviews; k++) {
+        const photo_texels *p = &s->pt[k];
+        if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, D, k, t, N, NULL)) continue;
+        shade(&s->views[k], N, S, NULL);
+        const float *I = p->I + 3 * (size_t)t;
+        double sc = obs_scale(s, I);
+        for (int c = 0; c < 3; c++) e += p->w[t] * tukey_rho((s->albedo[3 * t + c] * S[c] - I[c]) / sc);
+    }
+    return e;
+}
+
+static int curv(const mv *s, int t, int dir, int nb[3]) {
+    /* t is the middle: its left/up neighbour links to it and it links right/down */
+    const int *link = dir ? s->down : s->right;
+    int next = link[t];
+    if (next < 0) return 0;
+    /* the previous texel: the one whose link is t (found through the texel grid) */
+    int T = s->uv->size, tx = s->uv->texel[t] % T, ty = s->uv->texel[t] / T;
+    int px = dir ? tx : tx - 1, py = dir ? ty - 1 : ty;
+    if (px < 0 || py < 0) return 0;
+    int prev = s->uv->index[py * T + px];
+    if (prev < 0 || link[prev] != t) return 0;
+    nb[0] = prev, nb[1] = t, nb[2] = next;
+    return 1;
+}
+
+static double energy(const mv *s, const double *D) {
+    double e = 0;
+    for (int t = 0; t < s->nt; t++) {
+        e += texel_energy(s, D, t) + s->o->w_anchor * D[t] * D[t];
+        int nb[3];
+        for (int dir = 0; dir < 2; dir++)
+            if (curv(s, t, dir, nb)) {
+                double c = D[nb[0]] - 2 * D[nb[1]] + D[nb[2]];
+                e += s->o->w_smooth * c * c;
+            }
+    }
+    return e;
+}
+
+/* Per texel: the 6 Hessian entries and 3 gradient entries of its data terms (all photos). */
+static void texel_normal_equations(const mv *s, int t, double H[6], double g[3]) {
+    memset(H, 0, 6 * sizeof *H), memset(g, 0, 3 * sizeof *g);
+    double N[3], dN[3][3], S[3], G[3][3];
+    for (int k = 0; k < s->nviews; k++) {
+        const photo_texels *p = &s->pt[k];
+        if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, s->D, k, t, N, dN)) continue;
+        shade(&s->views[k], N, S, G);
+        const float *I = p->I + 3 * (size_t)t;
+        double sc = obs_scale(s, I);
+        for (int c = 0; c < 3; c++) {
+            double a = s->albedo[3 * t + c], r = (a * S[c] - I[c]) / sc, w = p->w[t] * tukey_w(r);
+            double j[3];
+            for (int q = 0; q < 3; q++) j[q] = a / sc * (G[c][0] * dN[q][0] + G[c][1] * dN[q][1] + G[c][2] * dN[q][2]);
+            H[0] += w * j[0] * j[0], H[1] += w * j[1] * j[0], H[2] += w * j[2] * j[0];
+            H[3] += w * j[1] * j[1], H[4] += w * j[2] * j[1], H[5] += w * j[2] * j[2];
+            for (int q = 0; q < 3; q++) g[q] += w * j[q] * r;
+        }
+    }
+}
+
+static frig_status add(frig_ctx *ctx, fr_triplets *t, int a, int b, double v) {
+    return a >= b ? fr_triplets_add(ctx, t, a, b, v) : fr_triplets_add(ctx, t, b, a, v);
+}
+
+static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr, int threads) {
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
+    for (int t = 0; t < s->nt; t++) {
+        double g[3];
+        texel_normal_equations(s, t, s->H + 6 * (size_t)t, g);
+        /* the gradient goes to three texels: keep it per texel (3 slots) in rhs scratch */
+        for (int q = 0; q < 3; q++) s->delta[3 * (size_t)t + q] = g[q];
+    }
+    fr_triplets_clear(tr);
+    memset(s->rhs, 0, sizeof(double) * (size_t)s->nt);
+    frig_status st = FRIG_OK;
+    for (int t = 0; t < s->nt && !st; t++) {
+        const double *H = s->H + 6 * (size_t)t;
+        int r = s->right[t], d = s->down[t];
+        if (r >= 0 && d >= 0) {
+            int u[3] = {t, r, d};
+            for (int q = 0; q < 3; q++) s->rhs[u[q]] -= s->delta[3 * (size_t)t + q];
+            st = add(ctx, tr, t, t, H[0]);
+            if (!st) st = add(ctx, tr, r, t, H[1]);
+            if (!st) st = add(ctx, tr, d, t, H[2]);
+            if (!st) st = add(ctx, tr, r, r, H[3]);
+            if (!st) st = add(ctx, tr, d, r, H[4]);
+            if (!st) st = add(ctx, tr, d, d, H[5]);
+        }
+        if (!st) st = add(ctx, tr, t, t, s->o->w_anchor + mu);
+        s->rhs[t] -= s->o->w_anchor * s->D[t];
+        int nb[3];
+        for (int dir = 0; dir < 2 && !st; dir++) {
+            if (!curv(s, t, dir, nb)) continue;
+            static const double k3[3] = {1, -2, 1};
+            double c = s->D[nb[0]] - 2 * s->D[nb[1]] + s->D[nb[2]];
+            for (int a = 0; a < 3 && !st; a++) {
+                s->rhs[nb[a]] -= s->o->w_smooth * k3[a] * c;
+                for (int b = 0; b <= a && !st; b++) st = add(ctx, tr, nb[a], nb[b], s->o->w_smooth * k3[a] * k3[b]);
+            }
+        }
+    }
+    return st;
+}
+
+/* Albedo of each texel given the displacement: a_c = sum w S I / sum w S^2 (robust). */
+static void update_albedo(mv *s, int threads) {
+#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
+    for (int t = 0; t < s->nt; t++) {
+        for (int pass = 0; pass < 2; pass++) {
+            double num[3] = {0, 0, 0}, den[3] = {0, 0, 0}, N[3], S[3];
+            for (int k = 0; k < s->nviews; k++) {
+                const photo_texels *p = &s->pt[k];
+                if (!s->use[k] || !(p->w[t] > 0)) continue;
+                if (!texel_normal(s, s->D, k, t, N, NULL))
+                    for (int q = 0; q < 3; q++) N[q] = p->n[3 * t + q];
+                shade(&s->views[k], N, S, NULL);
+                const float *I = p->I + 3 * (size_t)t;
+                double sc = obs_scale(s, I);
+                for (int c = 0; c < 3; c++) {
+                    double w = p->w[t] / (sc * sc);
+                    if (pass) w *= tukey_w((s->albedo[3 * t + c] * S[c] - I[c]) / sc);
+                    num[c] += w * S[c] * I[c], den[c] += w * S[c] * S[c];
+                }
+            }
+            for (int c = 0; c < 3; c++)
+                if (den[c] > 0) s->albedo[3 * t + c] = (float)(num[c] / den[c]);
+        }
+    }
+}
+
+/* Photo k's lighting refitted on the displaced surface and the texel albedo. */
+static void update_lighting(mv *s, int k, frig_ctx *ctx) {
+    const photo_texels *p = &s->pt[k];
+    int n = 0;
+    for (int t = 0; t < s->nt; t++) n += p->w[t] > 0;
+    if (n < 50) return;
+    float *I = malloc(sizeof(float) * 3 * (size_t)n), *a = malloc(sizeof(float) * 3 * (size_t)n);
+    float *nc = malloc(sizeof(float) * 3 * (size_t)n), *w = malloc(sizeof(float) * (size_t)n);
+    if (I && a && nc && w) {
+        int j = 0;
+        for (int t = 0; t < s->nt; t++) {
+            if (!(p->w[t] > 0)) continue;
+            double N[3], c[3];
+            if (!texel_normal(s, s->D, k, t, N, NULL))
+                for (int q = 0; q < 3; q++) N[q] = p->n[3 * t + q];
+            fr_mat3_apply(s->views[k].R, N, c);
+            for (int q = 0; q < 3; q++)
+                I[3 * j + q] = p->I[3 * t + q], a[3 * j + q] = s->albedo[3 * t + q], nc[3 * j + q] = (float)c[q];
+            w[j++] = p->w[t];
+        }
+        fr_sfs_fit_lighting(ctx, n, NULL, I, a, nc, w, s->views[k].sh);
+    }
+    free(I), free(a), free(nc), free(w);
+}
+
+static void mv_free(mv *s) {
+    for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w);
+    free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_try), free(s->delta), free(s->rhs);
+    free(s->H), free(s->albedo);
+}
+
+frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_uv *uv, fr_sfs_view *views, int nviews,
+                             const uint8_t *use, const fr_sfs_multiview_options *o, fr_sfs_albedo *ps, float *disp) {
+    mv s;
+    memset(&s, 0, sizeof s);
+    s.m = m, s.uv = uv, s.views = views, s.nviews = nviews, s.use = use, s.o = o, s.nt = uv->count;
+    int T = uv->size, threads = fr_threads(ctx);
+    size_t nt = (size_t)s.nt + 1;
+    s.pt = calloc((size_t)nviews + 1, sizeof *s.pt);
+    s.right = malloc(sizeof(int) * nt), s.down = malloc(sizeof(int) * nt), s.sign = malloc(nt);
+    s.D = calloc(nt, sizeof(double)), s.D_try = malloc(sizeof(double) * nt), s.delta = malloc(sizeof(double) * 3 * nt);
+    s.rhs = malloc(sizeof(double) * nt), s.H = malloc(sizeof(double) * 6 * nt), s.albedo = malloc(sizeof(float) * 3 * nt);
+    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_try || !s.delta || !s.rhs || !s.H || !s.albedo
+                         ? fr_nomem(ctx, "the multi-view solve")
+                         : FRIG_OK;
+    for (int k = 0; k < nviews && !st; k++) {
+        photo_texels *p = &s.pt[k];
+        if (!use[k]) continue;
+        p->X = malloc(sizeof(float) * 3 * nt), p->n = malloc(sizeof(float) * 3 * nt);
+        p->I = malloc(sizeof(float) * 3 * nt), p->w = calloc(nt, sizeof(float));
+        if (!p->X || !p->n || !p->I || !p->w) st = fr_nomem(ctx, "the multi-view solve");
+    }
+    for (int t = 0; t < s.nt && !st; t++) {
+        int x = uv->texel[t] % T, y = uv->texel[t] / T;
+        s.right[t] = x + 1 < T ? uv->index[y * T + x + 1] : -1;
+        s.down[t] = y + 1 < T ? uv->index[(y + 1) * T + x] : -1;
+        for (int q = 0; q < 3; q++) s.albedo[3 * t + q] = ps->albedo[3 * (size_t)uv->texel[t] + q];
+    }
+    int failed = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int k = 0; k < nviews; k++)
+        if (use[k] && !st && photo_geometry(ctx, &s, k)) failed = 1;
+    if (failed && !st) st = fr_nomem(ctx, "the multi-view solve");
+    /* the grid's orientation against the rig's neutral normals (the first used photo's) */
+    int k0 = 0;
+    while (k0 < nviews && !use[k0]) k0++;
+    for (int t = 0; t < s.nt && !st && k0 < nviews; t++) {
+        s.sign[t] = 1;
+        double N[3];
+        if (texel_normal(&s, s.D, k0, t, N, NULL)) {
+            const float *n = s.pt[k0].n + 3 * (size_t)t;
+            s.sign[t] = N[0] * n[0] + N[1] * n[1] + N[2] * n[2] < 0 ? -1 : 1;
+        }
+    }
+    fr_triplets tr;
+    memset(&tr, 0, sizeof tr);
+    fr_cholesky *ch = NULL;
+    if (!st) st = fr_triplets_init(ctx, &tr, s.nt, s.nt, (size_t)s.nt * 16);
+    for (int outer = 0; outer < o->outer && !st && k0 < nviews; outer++) {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+        for (int k = 0; k < nviews; k++)
+            if (use[k]) photo_sample(&s, k);
+        update_albedo(&s, threads);
+        double e = energy(&s, s.D), mu = -1;
+        for (int it = 0; it < o->iterations && !st; it++) {
+            for (int tries = 0; tries < 5 && !st; tries++) {
+                if (mu < 0) {
+                    st = assemble(ctx, &s, 0.0, &tr, threads);
+                    double trace = 0;
+                    for (size_t q = 0; q < tr.count; q++)
+                        if (tr.i[q] == tr.j[q]) trace += tr.x[q];
+                    mu = 1e-3 * trace / s.nt;
+                }
+                if (!st) st = assemble(ctx, &s, mu, &tr, threads);
+                if (!st) st = ch ? fr_cholesky_refactor(ctx, ch, &tr) : fr_cholesky_create(ctx, &tr, &ch);
+                if (!st) st = fr_cholesky_solve(ctx, ch, 1, s.rhs, s.delta);
+                if (st) break;
+                for (int t = 0; t < s.nt; t++) {
+                    double d = s.D[t] + s.delta[t];
+                    s.D_try[t] = d > o->max_mm ? o->max_mm : d < -o->max_mm ? -o->max_mm : d;
+                }
+                double e2 = energy(&s, s.D_try);
+                if (e2 < e) {
+                    memcpy(s.D, s.D_try, sizeof(double) * (size_t)s.nt);
+                    e = e2;
+                    mu *= 0.3;
+                    break;
+                }
+                mu *= 5;
+            }
+        }
+        double rms = 0;
+        for (int t = 0; t < s.nt; t++) rms += s.D[t] * s.D[t];
+        fr_log(ctx, FRIG_LOG_DEBUG, "sfs: shared shape round %d: energy %.6g, displacement RMS %.3f mm", outer + 1, e,
+               sqrt(rms / (s.nt ? s.nt : 1)));
+        update_albedo(&s, threads);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+        for (int k = 0; k < nviews; k++) {
+            if (!use[k]) continue;
+            frig_ctx child;
+            fr_ctx_init_child(&child, ctx);
+            update_lighting(&s, k, &child);
+        }
+    }
+    if (!st) {
+        memset(disp, 0, sizeof(float) * (size_t)T * T);
+        for (int t = 0; t < s.nt; t++) {
+            size_t q = (size_t)uv->texel[t];
+            disp[q] = (float)(s.D[t] * MM);
+            for (int c = 0; c < 3; c++) ps->albedo[3 * q + c] = s.albedo[3 * t + c];
+        }
+    }
+    fr_cholesky_free(ch);
+    fr_triplets_free(&tr);
+    mv_free(&s);
+    return st;
+}
+
+frig_status fr_sfs_vertex_displacement(frig_ctx *ctx, const fr_sfs_mesh *m, const float *disp, int T, float *out) {
+    uint8_t *done = calloc((size_t)m->nv + 1, 1);
+    if (!done) return fr_nomem(ctx, "the displacement");
+    memset(out, 0, sizeof(float) * (size_t)m->nv);
+    for (int t = 0; t < m->nt; t++) {
+        if (!m->face[t]) continue;
+        for (int c = 0; c < 3; c++) {
+            int v = m->tris[3 * (size_t)t + c];
+            if (done[v]) continue;
+            const float *u = m->uvs + 2 * (size_t)m->tri_uv[3 * (size_t)t + c];
+            double uv[2] = {u[0], u[1]};
+            float d;
+            /* texels with a displacement only (0 marks off-face texels too: a true zero is harmless) */
+            if (fr_sfs_texture_sample(disp, NULL, T, 1, uv, &d)) out[v] = d;
+            done[v] = 1;
+        }
+    }
+    free(done);
+    return FRIG_OK;
+}

@@ -1,0 +1,31 @@
+/* Shape from shading from all photos at once, in the model's UV space (beyond the paper's
+ * per-photo section 5.1; sfs_multiview.c): one displacement of the rig's face along its normals,
+ * shared by every photo of the subject, whose shading explains all the photos under their own
+ * lights and poses. Internal. */
+#ifndef FR_SFS_SFS_MULTIVIEW_H
+#define FR_SFS_SFS_MULTIVIEW_H
+
+#include "sfs/sfs.h"
+#include "sfs/sfs_albedo.h"
+#include "sfs/sfs_uv.h"
+
+typedef struct fr_sfs_multiview_options {
+    int outer;        /* rounds of (resample, albedo, displacement, lighting) */
+    int iterations;   /* Gauss-Newton iterations per round */
+    double sigma;     /* relative intensity error of one standard deviation */
+    double w_smooth;  /* second differences of the displacement (per texel, mm) */
+    double w_anchor;  /* displacement held to zero (per texel, mm) */
+    double max_mm;    /* the displacement is clamped to +-this */
+} fr_sfs_multiview_options;
+
+void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o);
+
+/* disp: T x T metres along the rig's normals (0 off the face), filled; ps->albedo is used as the
+ * start and updated; each used view's lighting is refitted on the displaced surface. */
+frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_uv *uv, fr_sfs_view *views, int nviews,
+                             const uint8_t *use, const fr_sfs_multiview_options *o, fr_sfs_albedo *ps, float *disp);
+
+/* Per vertex of the rig: the displacement at its UV (metres; 0 for vertices off the face). */
+frig_status fr_sfs_vertex_displacement(frig_ctx *ctx, const fr_sfs_mesh *m, const float *disp, int T, float *out);
+
+#endif

@@ -1,0 +1,246 @@
+/* Shape from shading over a photo set (paper Algorithm 4, with the albedo of Algorithm 5):
+ * every usable photo's view (crop, render, skin, first lighting) in parallel; the subject's
+ * albedo in UV space from all photos and each photo's lighting on it, the photos that this
+ * albedo does not explain weighted down (three passes); the shape shared by all photos (a
+ * displacement of the rig in UV space, sfs_multiview.c); each view drawn again with it; finally
+ * each photo's own depth from its shading, held to the shared shape's normals and depth.
+ * Photos are independent inside each step (OpenMP), texels too; results do not depend on the
+ * thread count. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "image/colour_transfer.h"
+#include "rig/rig.h"
+#include "sfs/sfs_multiview.h"
+#include "sfs/sfs_photo.h"
+#include "sfs/sfs_run.h"
+#include "workspace/photoset.h"
+
+/* The first views' lighting (DC terms per channel) in the log: --verbose. */
+static void log_lighting(frig_ctx *ctx, const fr_sfs_run *r, const char *when) {
+    for (int k = 0; k < r->n && k < 3; k++)
+        if (r->ok[k])
+            fr_log(ctx, FRIG_LOG_DEBUG, "sfs: %s: photo %zu lighting DC %.3f %.3f %.3f, weight %.2f", when, r->photo[k],
+                   r->views[k].sh[0][0], r->views[k].sh[1][0], r->views[k].sh[2][0], r->views[k].photo_weight);
+}
+
+static int cmp_double(const void *x, const void *y) {
+    double a = *(const double *)x, b = *(const double *)y;
+    return (a > b) - (a < b);
+}
+
+void fr_sfs_run_free(fr_sfs_run *r) {
+    for (int k = 0; k < r->n; k++) {
+        fr_sfs_view_free(&r->views[k]);
+        free(r->reason ? r->reason[k] : NULL);
+    }
+    free(r->views), free(r->photo), free(r->ok), free(r->reason), free(r->status);
+    fr_sfs_albedo_free(&r->ps);
+    free(r->vdisp);
+    fr_sfs_uv_free(&r->uv);
+    fr_sfs_mesh_free(&r->mesh);
+    memset(r, 0, sizeof *r);
+}
+
+static void fail_view(fr_sfs_run *r, int k, const char *why) {
+    r->ok[k] = 0;
+    if (!r->reason[k]) r->reason[k] = strdup(why);
+}
+
+typedef struct run_job {
+    fr_sfs_run *r;
+    const frig_photoset *set;
+    int *shape_of; /* fit expression -> rig shape */
+    int step;
+    const float *vdisp; /* per vertex displacement from the multi-view solve */
+} run_job;
+
+/* Step 0: read, crop, render, skin, first lighting; then the photo's own checks. */
+static frig_status prepare_one(frig_ctx *ctx, size_t k, void *user) {
+    run_job *j = user;
+    fr_sfs_run *r = j->r;
+    const fr_photo *p = &j->set->photos[r->photo[k]];
+    double *w = calloc((size_t)r->mesh.shapes + 1, sizeof(double));
+    if (!w) return fr_nomem(ctx, "rig weights");
+    for (int e = 0; e < j->set->n_expressions; e++)
+        if (j->shape_of[e] >= 0) w[j->shape_of[e]] = p->fit_expression[e];
+    fr_sfs_view *v = &r->views[k];
+    frig_status s = fr_sfs_view_build(ctx, &r->mesh, &r->st, p->path, p->width, p->height, p->fit_rotation,
+                                      p->fit_translation, p->fit_focal, w, v);
+    free(w);
+    if (!s) s = fr_sfs_photo_prepare(ctx, v, &r->st);
+    if (s) {
+        r->status[k] = s;
+        fail_view(r, (int)k, frig_ctx_errmsg(ctx));
+        return FRIG_OK;
+    }
+    const fr_skin_stats *ss = &v->skin_stats;
+    char why[256];
+    double region = ss->region > 0 ? ss->region : 1;
+    if (ss->region < 100) {
+        snprintf(why, sizeof why, "the fitted face covers only %d pixels of the crop", ss->region);
+        fail_view(r, (int)k, why);
+    } else if (ss->clipped > r->st.max_clipped * region) {
+        snprintf(why, sizeof why, "over-exposed: %.0f%% of the face's pixels are clipped", 100.0 * ss->clipped / region);
+        fail_view(r, (int)k, why);
+    } else if (ss->median_luma < r->st.min_luma) {
+        snprintf(why, sizeof why, "under-exposed: the face's median level is %.0f of 255 (sfs.min_luma %.0f), no shading "
+                 "to read", ss->median_luma, r->st.min_luma);
+        fail_view(r, (int)k, why);
+    } else if (ss->skin < r->st.min_skin * region) {
+        snprintf(why, sizeof why, "too little skin: %.0f%% of the face region (sunglasses, hands, hair?)",
+                 100.0 * ss->skin / region);
+        fail_view(r, (int)k, why);
+    }
+    return FRIG_OK;
+}
+
+/* The subject's albedo brought to the photo's colours (section 5.1.2: Reinhard colour transfer
+ * of the projected albedo to the photo): its l-alpha-beta statistics over the skin made those of
+ * the photo's own albedo I / S under the photo's current lighting. */
+static frig_status transfer_colours(frig_ctx *ctx, fr_sfs_view *v, int spread) {
+    size_t n = (size_t)v->w * v->h;
+    float *own = malloc(sizeof(float) * 3 * n);
+    if (!own) return fr_nomem(ctx, "the colour transfer");
+    for (size_t i = 0; i < n; i++) {
+        double S[3];
+        fr_sfs_shading(v->sh, v->n_prior + 3 * i, S);
+        for (int c = 0; c < 3; c++) own[3 * i + c] = S[c] > 1e-3 ? (float)(v->I[3 * i + c] / S[c]) : 0.0f;
+    }
+    fr_colour_transfer(v->albedo, v->skin, own, v->skin, n, spread);
+    free(own);
+    return FRIG_OK;
+}
+
+static frig_status apply_one(frig_ctx *ctx, size_t k, void *user) {
+    run_job *j = user;
+    fr_sfs_run *r = j->r;
+    if (!r->ok[k]) return FRIG_OK;
+    fr_sfs_view *v = &r->views[k];
+    fr_sfs_albedo_apply(&r->mesh, &r->ps, v, r->mean_albedo);
+    frig_status s = r->st.transfer ? transfer_colours(ctx, v, r->st.transfer == 2) : FRIG_OK;
+    if (!s) s = fr_sfs_photo_relight(ctx, v);
+    if (s) r->status[k] = s, fail_view(r, (int)k, frig_ctx_errmsg(ctx));
+    return FRIG_OK;
+}
+
+/* The view drawn again with the subject's displacement: the better reference depth and normals. */
+static frig_status displace_one(frig_ctx *ctx, size_t k, void *user) {
+    run_job *j = user;
+    fr_sfs_run *r = j->r;
+    if (!r->ok[k]) return FRIG_OK;
+    fr_sfs_view *v = &r->views[k];
+    double R[9], t[3];
+    memcpy(R, v->R, sizeof R), memcpy(t, v->t, sizeof t);
+    frig_status s = fr_sfs_view_render(ctx, &r->mesh, v, R, t, j->vdisp);
+    if (!s) {
+        /* the shared albedo, and the displaced rig's normals as the prior */
+        size_t n = (size_t)v->w * v->h;
+        fr_sfs_albedo_apply(&r->mesh, &r->ps, v, r->mean_albedo);
+        memcpy(v->n_prior, v->n_ref, sizeof(float) * 3 * n);
+        for (size_t i = 0; i < n; i++)
+            if (!v->face[i]) v->n_prior[3 * i] = v->n_prior[3 * i + 1] = v->n_prior[3 * i + 2] = 0;
+    }
+    if (s) r->status[k] = s, fail_view(r, (int)k, frig_ctx_errmsg(ctx));
+    return FRIG_OK;
+}
+
+static frig_status depth_one(frig_ctx *ctx, size_t k, void *user) {
+    run_job *j = user;
+    fr_sfs_run *r = j->r;
+    if (!r->ok[k]) return FRIG_OK;
+    frig_status s = fr_sfs_photo_depth(ctx, &r->views[k], &r->st);
+    if (s) r->status[k] = s, fail_view(r, (int)k, frig_ctx_errmsg(ctx));
+    return FRIG_OK;
+}
+
+/* Photos the stage judges: fitted, ok or judged by an earlier sfs run (options may have changed). */
+static int candidate(const fr_photo *p) {
+    return p->fitted && (p->status == FRIG_PHOTO_OK || p->status == FRIG_PHOTO_SFS_FAILED) && p->width > 0 && p->height > 0;
+}
+
+frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photoset *set, const fr_sfs_settings *st,
+                           fr_sfs_run *r) {
+    memset(r, 0, sizeof *r);
+    r->st = *st;
+    frig_status s = fr_sfs_mesh_init(ctx, rig, &r->mesh);
+    if (s) return s;
+    size_t n = 0;
+    for (size_t i = 0; i < set->count; i++) n += candidate(&set->photos[i]);
+    r->photo = malloc(sizeof(size_t) * (n + 1));
+    r->views = calloc(n + 1, sizeof *r->views);
+    r->ok = malloc(n + 1);
+    r->reason = calloc(n + 1, sizeof(char *));
+    r->status = calloc(n + 1, sizeof(frig_status));
+    int *shape_of = malloc(sizeof(int) * (size_t)(set->n_expressions + 1));
+    if (!r->photo || !r->views || !r->ok || !r->reason || !r->status || !shape_of) {
+        free(shape_of);
+        return fr_nomem(ctx, "the sfs stage");
+    }
+    for (size_t i = 0; i < set->count; i++)
+        if (candidate(&set->photos[i])) r->photo[r->n++] = i;
+    memset(r->ok, 1, n + 1);
+    for (int e = 0; e < set->n_expressions; e++) shape_of[e] = frig_rig_shape_find(rig, set->expression_names[e]);
+    run_job job = {r, set, shape_of, 0, NULL};
+    int saved = fr_blas_serial_begin();
+    s = fr_parallel_items(ctx, n, "sfs.prepare", prepare_one, &job);
+    /* the mean skin colour of the usable photos: the albedo where no photo saw the texel */
+    int used = 0;
+    for (int k = 0; k < r->n; k++)
+        if (r->ok[k]) {
+            for (int c = 0; c < 3; c++) r->mean_albedo[c] += r->views[k].skin_stats.mean_linear[c];
+            used++;
+        }
+    for (int c = 0; c < 3; c++) r->mean_albedo[c] /= used ? used : 1;
+    log_lighting(ctx, r, "first lighting");
+    if (!s) s = fr_sfs_uv_init(ctx, &r->mesh, st->shape_size, &r->uv);
+    if (!s) s = fr_sfs_albedo_init(ctx, &r->uv, &r->ps);
+    double albedo_sigma = fmax(st->sigma, 0.03);
+    /* Algorithm 5: the albedo from all photos on the fitted normals, and each photo's lighting on it */
+    for (int pass = 0; pass < 3 && !s && used; pass++) {
+        s = fr_sfs_albedo_solve(ctx, &r->mesh, &r->uv, r->views, r->n, r->ok, albedo_sigma, &r->ps);
+        if (!s) s = fr_parallel_items(ctx, n, "sfs.lighting", apply_one, &job);
+        /* photos the subject's albedo does not explain (a wrong fit, an occluder, no face) weigh less
+         * in the next estimate: the weight is the squared correlation of prediction and photo */
+        double *a = malloc(sizeof(double) * (size_t)(r->n + 1)), *sorted = malloc(sizeof(double) * (size_t)(r->n + 1));
+        int m = 0;
+        for (int k = 0; a && sorted && k < r->n; k++) {
+            a[k] = r->ok[k] ? fr_sfs_photo_agreement(&r->views[k]) : 0;
+            if (r->ok[k]) sorted[m++] = a[k];
+        }
+        if (a && sorted && m) {
+            qsort(sorted, (size_t)m, sizeof *sorted, cmp_double);
+            double med = sorted[m / 2] > 0.05 ? sorted[m / 2] : 0.05;
+            for (int k = 0; k < r->n; k++) {
+                double q = a[k] > 0 ? a[k] / med : 0;
+                r->views[k].photo_weight = q < 1 ? q * q : 1;
+            }
+        }
+        free(a), free(sorted);
+    }
+    log_lighting(ctx, r, "on the shared albedo");
+    /* the subject's shape from all photos: a displacement of the rig in UV space */
+    float *disp = NULL, *vdisp = NULL;
+    if (!s && used && st->rounds > 0) {
+        disp = calloc((size_t)st->shape_size * st->shape_size, sizeof(float));
+        vdisp = calloc((size_t)r->mesh.nv + 1, sizeof(float));
+        if (!disp || !vdisp) s = fr_nomem(ctx, "the multi-view solve");
+        fr_sfs_multiview_options mo;
+        fr_sfs_multiview_options_default(&mo);
+        mo.outer = st->rounds;
+        if (!s) s = fr_sfs_multiview(ctx, &r->mesh, &r->uv, r->views, r->n, r->ok, &mo, &r->ps, disp);
+        if (!s) s = fr_sfs_vertex_displacement(ctx, &r->mesh, disp, st->shape_size, vdisp);
+        log_lighting(ctx, r, "with the shared shape");
+        job.vdisp = vdisp;
+        if (!s) s = fr_parallel_items(ctx, n, "sfs.reference", displace_one, &job);
+    }
+    free(disp);
+    r->vdisp = vdisp;
+    if (!s && used) s = fr_parallel_items(ctx, n, "sfs.depth", depth_one, &job);
+    fr_blas_serial_end(saved);
+    free(shape_of);
+    return s;
+}

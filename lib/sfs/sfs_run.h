@@ -1,0 +1,29 @@
+/* The stage's whole computation over a photo set, kept in memory for the stage's outputs and
+ * for the benchmarks (sfs_run.c). Internal. */
+#ifndef FR_SFS_SFS_RUN_H
+#define FR_SFS_SFS_RUN_H
+
+#include "sfs/sfs.h"
+#include "sfs/sfs_albedo.h"
+#include "sfs/sfs_uv.h"
+
+typedef struct fr_sfs_run {
+    fr_sfs_settings st;
+    fr_sfs_mesh mesh;
+    fr_sfs_uv uv;
+    fr_sfs_albedo ps;
+    int n;              /* candidate photos (ok and fitted) */
+    size_t *photo;      /* their indices in the set */
+    fr_sfs_view *views;
+    uint8_t *ok;        /* still usable */
+    char **reason;      /* why not (NULL when usable) */
+    frig_status *status; /* the photo's own failure (FRIG_OK for a judged failure) */
+    double mean_albedo[3];
+    float *vdisp;       /* per rig vertex: the multi-view displacement along its normal, metres (NULL: none) */
+} fr_sfs_run;
+
+frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photoset *set, const fr_sfs_settings *st,
+                           fr_sfs_run *run);
+void fr_sfs_run_free(fr_sfs_run *run);
+
+#endif

@@ -1,0 +1,24 @@
+/* The sfs.* parameters of a context as the stage's settings (docs/sfs.md). */
+#include "core/context.h"
+#include "sfs/sfs.h"
+
+void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
+    s->face_px = fr_param(ctx, FRIG_PARAM_SFS_FACE_PX);
+    s->rounds = fr_param_int(ctx, FRIG_PARAM_SFS_ROUNDS);
+    s->iterations = fr_param_int(ctx, FRIG_PARAM_SFS_ITERATIONS);
+    s->w_normal = fr_param(ctx, FRIG_PARAM_SFS_W_NORMAL);
+    s->w_anchor = fr_param(ctx, FRIG_PARAM_SFS_W_ANCHOR);
+    s->w_prior = fr_param(ctx, FRIG_PARAM_SFS_W_PRIOR);
+    s->sigma = fr_param(ctx, FRIG_PARAM_SFS_SIGMA);
+    s->e_max = fr_param(ctx, FRIG_PARAM_SFS_E_MAX);
+    s->d_max_mm = fr_param(ctx, FRIG_PARAM_SFS_D_MAX);
+    s->min_skin = fr_param(ctx, FRIG_PARAM_SFS_MIN_SKIN);
+    s->max_clipped = fr_param(ctx, FRIG_PARAM_SFS_MAX_CLIPPED);
+    s->min_luma = fr_param(ctx, FRIG_PARAM_SFS_MIN_LUMA);
+    s->min_agreement = fr_param(ctx, FRIG_PARAM_SFS_MIN_AGREEMENT);
+    s->min_points = fr_param_int(ctx, FRIG_PARAM_SFS_MIN_POINTS);
+    s->texture_size = fr_param_int(ctx, FRIG_PARAM_SFS_TEXTURE_SIZE);
+    s->shape_size = fr_param_int(ctx, FRIG_PARAM_SFS_SHAPE_SIZE);
+    s->pose = fr_param_int(ctx, FRIG_PARAM_SFS_POSE);
+    s->transfer = fr_param_int(ctx, FRIG_PARAM_SFS_TRANSFER);
+}

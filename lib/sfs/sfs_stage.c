@@ -1,0 +1,221 @@
+/* The sfs stage over a photo set (paper section 5.1, Algorithms 4-5): runs the computation
+ * (sfs_run.c), then per photo the region selection (eq. 5.15), the check that the photo's
+ * colours agree with the subject's albedo, the pose refinement against the recovered depth, the
+ * cloud in the rig's head frame and the picture; records statuses and results in the set. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "frig/sfs.h"
+#include "image/image.h"
+#include "image/srgb.h"
+#include "io/file.h"
+#include "raster/rotation.h"
+#include "sfs/sfs_photo.h"
+#include "sfs/sfs_run.h"
+#include "workspace/photoset.h"
+
+typedef struct finish_job {
+    fr_sfs_run *r;
+    const frig_photoset *set;
+    const char *overlay_dir;
+    float **xyz, **nrm, **conf; /* per view: the cloud */
+    int *count;
+} finish_job;
+
+static frig_status finish_one(frig_ctx *ctx, size_t k, void *user) {
+    finish_job *j = user;
+    fr_sfs_run *r = j->r;
+    fr_sfs_view *v = &r->views[k];
+    const fr_sfs_settings *st = &r->st;
+    char why[256];
+    if (!r->ok[k] && (!v->rgb || r->status[k] != FRIG_OK)) return FRIG_OK; /* not read or drawn: no picture */
+    int judged_before = !r->ok[k];
+    v->agreement = judged_before ? 0 : fr_sfs_photo_agreement(v);
+    if (!judged_before && v->agreement < st->min_agreement) {
+        snprintf(why, sizeof why, "its shading does not follow the subject's albedo (correlation %.2f < %.2f): no face, "
+                 "someone else or an occluder", v->agreement, st->min_agreement);
+        r->ok[k] = 0, r->reason[k] = strdup(why);
+    }
+    if (!judged_before) fr_sfs_select_region(v, st);
+    memcpy(v->R_refined, v->R, sizeof v->R), memcpy(v->t_refined, v->t, sizeof v->t);
+    frig_status s = FRIG_OK;
+    if (r->ok[k] && st->pose && v->kept_pixels >= 50) s = fr_sfs_refine_pose(ctx, &r->mesh, v, v->R_refined, v->t_refined);
+    if (s) return s;
+    v->pose_change_deg = fr_rotation_angle_deg(v->R, v->R_refined);
+    if (r->ok[k] && v->kept_pixels < st->min_points) {
+        snprintf(why, sizeof why, "only %d points kept (sfs.min_points %d)", v->kept_pixels, st->min_points);
+        r->ok[k] = 0, r->reason[k] = strdup(why);
+    }
+    if (r->ok[k]) {
+        size_t n = (size_t)v->w * v->h;
+        float *xyz = malloc(sizeof(float) * 3 * (size_t)(v->kept_pixels + 1));
+        float *nrm = malloc(sizeof(float) * 3 * (size_t)(v->kept_pixels + 1));
+        float *conf = malloc(sizeof(float) * (size_t)(v->kept_pixels + 1));
+        if (!xyz || !nrm || !conf) {
+            free(xyz), free(nrm), free(conf);
+            return fr_nomem(ctx, "a point cloud");
+        }
+        const double *R = v->R_refined, *t = v->t_refined;
+        int c = 0;
+        for (size_t i = 0; i < n; i++) {
+            if (!v->kept[i]) continue;
+            int x = (int)(i % v->w), y = (int)(i / v->w);
+            double X[3] = {v->z[i] * (x - v->cam.cx) / v->cam.f - t[0], v->z[i] * (y - v->cam.cy) / v->cam.f - t[1],
+                           v->z[i] - t[2]};
+            const float *nc = v->normal + 3 * i;
+            for (int q = 0; q < 3; q++) { /* head frame: R^T (X_c - t), R^T n_c */
+                xyz[3 * c + q] = (float)(R[q] * X[0] + R[3 + q] * X[1] + R[6 + q] * X[2]);
+                nrm[3 * c + q] = (float)(R[q] * nc[0] + R[3 + q] * nc[1] + R[6 + q] * nc[2]);
+            }
+            conf[c++] = v->confidence[i];
+        }
+        j->xyz[k] = xyz, j->nrm[k] = nrm, j->conf[k] = conf, j->count[k] = c;
+    }
+    if (j->overlay_dir) {
+        char name[1024], label[256];
+        s = frig_clouds_file_name(ctx, j->set, r->photo[k], name, sizeof name);
+        char *dot = strrchr(name, '.');
+        if (dot) strcpy(dot, ".jpg");
+        if (r->ok[k])
+            snprintf(label, sizeof label, "kept %d of %d px, error %.3f, pose %+.1f deg", v->kept_pixels, v->face_pixels,
+                     v->sfs_error, v->pose_change_deg);
+        else
+            snprintf(label, sizeof label, "sfs_failed: %.200s", r->reason[k] ? r->reason[k] : "");
+        char *path = s ? NULL : fr_path_join(j->overlay_dir, name);
+        if (!s && !path) s = fr_nomem(ctx, "a path");
+        if (!s) s = fr_sfs_write_overlay(ctx, v, st, label, path);
+        free(path);
+    }
+    return s;
+}
+
+/* The subject's albedo as an sRGB texture of sfs.texture_size texels (Algorithm 5 once more, on
+ * the final lighting and the shared shape's normals); texels no photo saw take the average of
+ * their seen neighbours, grown outward a few texels, then the mean skin colour. */
+static frig_status albedo_image(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
+    fr_sfs_uv uv;
+    fr_sfs_albedo a;
+    memset(&a, 0, sizeof a);
+    frig_status s = fr_sfs_uv_init(ctx, &r->mesh, r->st.texture_size, &uv);
+    if (!s) s = fr_sfs_albedo_init(ctx, &uv, &a);
+    if (!s) s = fr_sfs_albedo_solve(ctx, &r->mesh, &uv, r->views, r->n, r->ok, fmax(r->st.sigma, 0.03), &a);
+    int T = uv.size;
+    frig_image *img = s ? NULL : fr_image_new(T, T, 3);
+    float *grow = s ? NULL : malloc(sizeof(float) * 4 * (size_t)T * T);
+    if (!s && (!img || !grow)) s = fr_nomem(ctx, "the albedo texture");
+    if (!s) {
+        size_t n = (size_t)T * T;
+        for (size_t t = 0; t < n; t++) {
+            int seen = a.weight[t] > 0;
+            for (int c = 0; c < 3; c++) grow[4 * t + c] = seen ? a.albedo[3 * t + c] : 0;
+            grow[4 * t + 3] = (float)seen;
+        }
+        for (int pass = 0; pass < 8; pass++)
+            for (int y = 0; y < T; y++)
+                for (int x = 0; x < T; x++) {
+                    size_t t = (size_t)y * T + x;
+                    if (grow[4 * t + 3] != 0) continue;
+                    double acc[3] = {0, 0, 0}, w = 0;
+                    for (int d = 0; d < 4; d++) {
+                        int xx = x + (d == 0) - (d == 1), yy = y + (d == 2) - (d == 3);
+                        if (xx < 0 || yy < 0 || xx >= T || yy >= T) continue;
+                        size_t q = (size_t)yy * T + xx;
+                        if (!(grow[4 * q + 3] > 0) || grow[4 * q + 3] > pass + 1) continue;
+                        for (int c = 0; c < 3; c++) acc[c] += grow[4 * q + c];
+                        w += 1;
+                    }
+                    if (w > 0) {
+                        for (int c = 0; c < 3; c++) grow[4 * t + c] = (float)(acc[c] / w);
+                        grow[4 * t + 3] = (float)(pass + 2);
+                    }
+                }
+        for (int y = 0; y < T; y++)
+            for (int x = 0; x < T; x++) {
+                size_t t = (size_t)y * T + x;
+                for (int c = 0; c < 3; c++) {
+                    double lin = grow[4 * t + 3] > 0 ? grow[4 * t + c] : r->mean_albedo[c];
+                    img->pixels[(size_t)y * img->stride + 3 * (size_t)x + c] =
+                        (uint8_t)floor(255.0 * fr_linear_to_srgb(lin) + 0.5);
+                }
+            }
+        *out = img;
+        img = NULL;
+    }
+    frig_image_free(img);
+    free(grow);
+    fr_sfs_albedo_free(&a);
+    fr_sfs_uv_free(&uv);
+    return s;
+}
+
+frig_status frig_sfs(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const char *overlay_dir,
+                     frig_clouds **clouds, frig_image **albedo) {
+    if (clouds) *clouds = NULL;
+    if (albedo) *albedo = NULL;
+    if (!rig || !set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_sfs: NULL rig or photo set");
+    fr_sfs_settings st;
+    fr_sfs_settings_from_ctx(ctx, &st);
+    frig_status s = overlay_dir ? fr_make_dirs(ctx, overlay_dir) : FRIG_OK;
+    if (s) return s;
+    fr_sfs_run run;
+    s = fr_sfs_run_all(ctx, rig, set, &st, &run);
+    if (!s && run.n == 0)
+        s = fr_error(ctx, FRIG_ERR_TOO_FEW, "no fitted photo with an ok status for shape from shading (run frig fit first)");
+    finish_job job = {&run, set, overlay_dir, NULL, NULL, NULL, NULL};
+    if (!s) {
+        job.xyz = calloc((size_t)run.n + 1, sizeof(float *));
+        job.nrm = calloc((size_t)run.n + 1, sizeof(float *));
+        job.conf = calloc((size_t)run.n + 1, sizeof(float *));
+        job.count = calloc((size_t)run.n + 1, sizeof(int));
+        if (!job.xyz || !job.nrm || !job.conf || !job.count) s = fr_nomem(ctx, "the clouds");
+    }
+    if (!s) {
+        int saved = fr_blas_serial_begin();
+        s = fr_parallel_items(ctx, (size_t)run.n, "sfs.clouds", finish_one, &job);
+        fr_blas_serial_end(saved);
+    }
+    frig_clouds *cl = NULL;
+    if (!s && clouds) s = frig_clouds_create(ctx, set->count, &cl);
+    /* results of an earlier run stay only with the photos judged now */
+    for (size_t i = 0; i < set->count && !s; i++) set->photos[i].sfs_done = 0;
+    int usable = 0;
+    for (int k = 0; k < run.n && !s; k++) {
+        fr_photo *p = &set->photos[run.photo[k]];
+        const fr_sfs_view *v = &run.views[k];
+        double sh[27];
+        for (int c = 0; c < 3; c++) memcpy(sh + 9 * c, v->sh[c], sizeof(double) * 9);
+        if (run.status[k] == FRIG_ERR_IO || run.status[k] == FRIG_ERR_CORRUPT || run.status[k] == FRIG_ERR_TRUNCATED ||
+            run.status[k] == FRIG_ERR_NOT_FOUND || run.status[k] == FRIG_ERR_UNSUPPORTED) {
+            p->sfs_done = 0;
+            s = frig_photoset_set_status(ctx, set, run.photo[k], FRIG_PHOTO_UNREADABLE, run.reason[k]);
+            continue;
+        }
+        if (run.status[k] == FRIG_ERR_NO_MEMORY || run.status[k] == FRIG_ERR_INTERNAL || run.status[k] == FRIG_ERR_CANCELLED) {
+            s = fr_error(ctx, run.status[k], "%s", run.reason[k] ? run.reason[k] : "shape from shading failed");
+            break;
+        }
+        fr_photoset_set_sfs(p, v->face_pixels, run.ok[k] ? v->kept_pixels : 0, v->sfs_error, sh, v->R_refined,
+                            v->t_refined);
+        s = frig_photoset_set_status(ctx, set, run.photo[k], run.ok[k] ? FRIG_PHOTO_OK : FRIG_PHOTO_SFS_FAILED,
+                                     run.ok[k] ? NULL : run.reason[k]);
+        if (!s && run.ok[k]) {
+            usable++;
+            if (cl) s = frig_clouds_set(ctx, cl, run.photo[k], (size_t)job.count[k], job.xyz[k], job.nrm[k], job.conf[k]);
+        }
+    }
+    (void)usable;
+    if (!s && albedo) s = albedo_image(ctx, &run, albedo);
+    for (int k = 0; job.xyz && k < run.n; k++) free(job.xyz[k]), free(job.nrm[k]), free(job.conf[k]);
+    free(job.xyz), free(job.nrm), free(job.conf), free(job.count);
+    fr_sfs_run_free(&run);
+    if (s) {
+        frig_clouds_free(cl);
+        if (albedo) frig_image_free(*albedo), *albedo = NULL;
+        return s;
+    }
+    if (clouds) *clouds = cl;
+    return FRIG_OK;
+}

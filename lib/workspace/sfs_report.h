@@ -1,0 +1,14 @@
+/* The sfs block of a photo in report.json (sfs_report.c). Internal. */
+#ifndef FR_WORKSPACE_SFS_REPORT_H
+#define FR_WORKSPACE_SFS_REPORT_H
+
+#include <cJSON.h>
+
+#include "io/json_writer.h"
+#include "workspace/photoset.h"
+
+void fr_report_write_sfs(fr_json *j, const fr_photo *p);
+/* 1 when the block is well formed (then p has it), else 0. */
+int fr_report_read_sfs(const cJSON *sfs, fr_photo *p);
+
+#endif
