@@ -153,9 +153,10 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
  * already replaced, the other vertices follow the change of the neutral and of every shape
  * from old_neutral / old_deltas (the rig before, all vertices): skin connected to the face by
  * a harmonic extension over the mesh, eyeballs, teeth and gums rigidly with the skin around
- * them, lashes and eye overlays with the nearest skin; then no eyelid vertex is left inside
- * its eyeball in any shape. */
+ * them, lashes and eye overlays with the nearest skin; then in no shape is a lid deeper in its
+ * eyeball, or are the teeth further in front of the lips, than in the reference rig
+ * (ref_neutral / ref_deltas: the rig the pass started from). */
 frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, const float *old_neutral,
-                             const float *old_deltas, frig_rig *rig);
+                             const float *old_deltas, const float *ref_neutral, const float *ref_deltas, frig_rig *rig);
 
 #endif
