@@ -189,7 +189,7 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_MAX_NORMAL_ANGLE = 708,  /* degrees (default 60) */
     FRIG_PARAM_RETARGET_MIN_CONFIDENCE = 709,    /* cloud points below are ignored (default 0.5) */
     FRIG_PARAM_RETARGET_SPACING_MM = 710,        /* clouds thinned to one point per cube this wide (default 4) */
-    FRIG_PARAM_RETARGET_SMOOTH_MM = 711,         /* smoothing length of the Laplacian deformation (default 6) */
+    FRIG_PARAM_RETARGET_SMOOTH_MM = 711,         /* smoothing length of the Laplacian deformation (default 10) */
     FRIG_PARAM_RETARGET_TANGENTIAL = 712,        /* share of a match's tangential offset it pulls by (default 0.25) */
     FRIG_PARAM_RETARGET_WEIGHTS_PRIOR = 713,     /* ridge on the weights' change (default 0.1) */
     FRIG_PARAM_RETARGET_STOP_MM = 714,           /* the outer loop stops when the neutral moves less (default 0.05) */
@@ -203,7 +203,8 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_TRANSFER = 722,          /* E_t: 1 deformation transfer, 0 template deltas (default 0) */
     FRIG_PARAM_RETARGET_ANCHOR_FRAME = 723,      /* 1: each pass keeps the rig in the frame it had (default 1) */
     FRIG_PARAM_RETARGET_MAX_CORRECTION_DEG = 724, /* a cloud needing a larger turn is not used (default 15) */
-    FRIG_PARAM_RETARGET_MAX_RMS_MM = 725         /* a cloud the mesh cannot follow closer is not used (default 1.5) */
+    FRIG_PARAM_RETARGET_MAX_RMS_MM = 725,        /* a cloud the mesh cannot follow closer is not used (default 1.5) */
+    FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS = 726 /* rounds at most when the clouds cannot be recovered (default 1) */
 } frig_param;
 
 FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);

@@ -146,7 +146,7 @@ static const param_row rows[] = {
      "cloud points of lower confidence are not used"},
     {FRIG_PARAM_RETARGET_SPACING_MM, "retarget.spacing_mm", 4, 0.1, 100, 0,
      "clouds are thinned to one point per cube this wide (mm)"},
-    {FRIG_PARAM_RETARGET_SMOOTH_MM, "retarget.smooth_mm", 6, 0.1, 1000, 0,
+    {FRIG_PARAM_RETARGET_SMOOTH_MM, "retarget.smooth_mm", 10, 0.1, 1000, 0,
      "smoothing length of the Laplacian deformation toward a cloud (mm)"},
     {FRIG_PARAM_RETARGET_TANGENTIAL, "retarget.tangential", 0.25, 0, 1, 0,
      "share of a correspondence's offset along the surface it pulls by (0: point-to-plane, 1: point-to-point)"},
@@ -182,6 +182,9 @@ static const param_row rows[] = {
      "shows another surface (a wrong pose, a failed sfs)"},
     {FRIG_PARAM_RETARGET_MAX_RMS_MM, "retarget.max_rms_mm", 1.5, 0, 1000, 0,
      "a cloud whose matched points stay farther than this (RMS, mm) from the deformed mesh is not used"},
+    {FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS, "retarget.fixed_cloud_rounds", 1, 1, 20, 1,
+     "outer rounds at most when the clouds cannot be recovered with the new rig (no sfs stage in the loop): later "
+     "rounds only refit the poses, and with the same clouds they fit the clouds' noise again"},
 };
 
 #define N_ROWS (sizeof rows / sizeof rows[0])
