@@ -161,6 +161,60 @@ static void correspondence_report(frig_ctx *ctx, const frig_model *model, const 
     fr_rt_mesh_free(&m);
 }
 
+/* E_P of the clouds themselves: each cloud aligned (rotation, translation, scale) to the photo's
+ * true shape (true neutral and deltas, true weights) and its RMS distance to it, over the points
+ * within 10 mm. */
+static void cloud_error_report(frig_ctx *ctx, const frig_photoset *set, const frig_clouds *clouds,
+                               const frig_rig *truth, int nf) {
+    fr_rt_settings s;
+    fr_rt_settings_from_ctx(ctx, &s);
+    s.rigid_iterations = 8;
+    s.deform_iterations = 1;
+    s.smooth = 10.0; /* metres: no deformation to speak of */
+    s.cloud_scale = 1;
+    fr_rt_mesh m;
+    fr_lap_system *sys = NULL;
+    fr_lap_solver *sv = NULL;
+    if (fr_rt_mesh_make(ctx, nf, truth->topo.triangles, truth->topo.triangle_count, truth->neutral, &m) ||
+        fr_lap_system_create(ctx, nf, m.tris, m.nt, truth->neutral, 1, &sys) || fr_lap_solver_create(ctx, sys, &sv))
+        return;
+    int nv = frig_rig_vertex_count(truth), nt = frig_rig_shape_count(truth), count = 0;
+    float *tru = malloc(sizeof(float) * 3 * nv);
+    double *wt = calloc(nt + 1, sizeof(double)), sum = 0, sum_scale = 0;
+    fr_rt_photo p;
+    memset(&p, 0, sizeof p);
+    p.M = malloc(sizeof(float) * 3 * nf);
+    p.cover = malloc(sizeof(float) * nf);
+    int saved = fr_blas_serial_begin();
+    for (size_t i = 0; i < frig_photoset_count(set); i++) {
+        if (!frig_clouds_count(clouds, i) || !frig_photoset_fitted(set, i)) continue;
+        synth_photo_truth tr;
+        if (!synth_truth_read(frig_photoset_path(set, i), 0, &tr)) continue;
+        memset(wt, 0, sizeof(double) * nt);
+        for (int q = 0; q < tr.n_expr; q++) {
+            int j = frig_rig_shape_find(truth, tr.names[q]);
+            if (j >= 0) wt[j] = tr.weights[q];
+        }
+        frig_rig_eval(ctx, truth, wt, tru);
+        p.xyz = frig_clouds_xyz(clouds, i), p.nrm = frig_clouds_normals(clouds, i);
+        p.conf = frig_clouds_confidence(clouds, i), p.n_points = frig_clouds_count(clouds, i);
+        fr_rt_thin_cloud(ctx, &s, &p);
+        for (int k = 0; k < 9; k++) p.R[k] = k % 4 == 0;
+        p.t[0] = p.t[1] = p.t[2] = 0;
+        p.scale = 1;
+        if (fr_rt_correspond(ctx, &s, &m, sv, fr_lap_system_mass(sys), m.tree, tru, &p) || !isfinite(p.rms_mm)) continue;
+        sum += p.rms_mm, sum_scale += p.scale, count++;
+    }
+    fr_blas_serial_end(saved);
+    if (count)
+        printf("clouds against the true surface (aligned, points within 10 mm): RMS %.2f mm over %d photos, mean "
+               "scale %.4f\n", sum / count, count, sum_scale / count);
+    free(tru), free(wt), free(p.M), free(p.cover), free(p.pick), free(p.hint);
+    fr_lap_solver_free(sv);
+    fr_lap_system_free(sys);
+    fr_rt_mesh_free(&m);
+}
+
 /* A copy of the set's fitted identity; returns its length. */
 static int copy_identity(const frig_photoset *set, double **out) {
     const double *id0;
@@ -348,6 +402,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;
         else if (!strcmp(argv[i], "--correspondence")) corr = 1;
         else if (!strcmp(argv[i], "--oracle")) corr = 2;
+        else if (!strcmp(argv[i], "--cloud-error")) corr = 3;
         else if (!strcmp(argv[i], "--identity") && i + 1 < argc) id_steps = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--limit") && i + 1 < argc) limit = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--set") && i + 1 < argc) {
@@ -408,6 +463,7 @@ int main(int argc, char **argv) {
     }
     if (!quiet) frig_ctx_set_log(ctx, log_line, NULL, getenv("RETARGET_EVAL_DEBUG") ? FRIG_LOG_DEBUG : FRIG_LOG_ERROR);
     if (corr == 2 && wtrue) oracle_report(ctx, model, set, rig, truth, nf, wtrue);
+    if (corr == 3) cloud_error_report(ctx, set, clouds, truth, nf);
     if (id_steps) identity_report(ctx, model, set, clouds, rig, truth, nf, id_steps, wtrue);
     if (corr == 1) correspondence_report(ctx, model, set, clouds, rig, truth, nf);
     for (int r = 0; r < rounds; r++) {

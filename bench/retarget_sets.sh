@@ -2,7 +2,9 @@
 # The retarget issue's table on frig synth subjects: for each subject of a synth set, its
 # photos through detect -> filter -> fit, then clouds from the true depth (bench/truth_clouds:
 # realistic = placed by the fitted pose, ideal = the true surface in the true head frame), then
-# bench/retarget_eval (template, model-space fit, best in-span, each outer round).
+# bench/retarget_eval (template, model-space fit, best in-span, each outer round). With
+# SFS_FRIG=path/to/frig (a build that has the sfs stage), a third kind: that stage's clouds
+# (photos it marks sfs_failed are read as outliers).
 # Usage: bench/retarget_sets.sh MODEL SYNTH_DIR OUT_DIR [ROUNDS] [-- retarget_eval options...]
 set -euo pipefail
 here=$(cd "$(dirname "$0")/.." && pwd)
@@ -20,11 +22,17 @@ for s in "$synth"/subject_*; do
     "$build/frig" --quiet filter -w "$ws"
     "$build/frig" --quiet fit -w "$ws" --model "$model" --no-overlays
   fi
-  for kind in realistic ideal; do
+  kinds="realistic ideal"; [ -n "${SFS_FRIG:-}" ] && kinds="$kinds sfs"
+  for kind in $kinds; do
     w=$out/${name}_$kind
     rm -rf "$w"; cp -r "$ws" "$w"
-    if [ $kind = ideal ]; then "$build/bench/truth_clouds" "$w" --ideal >/dev/null; else "$build/bench/truth_clouds" "$w" >/dev/null; fi
-    echo "### $name, clouds from the true depth ($kind)"
+    case $kind in
+      ideal) "$build/bench/truth_clouds" "$w" --ideal >/dev/null ;;
+      realistic) "$build/bench/truth_clouds" "$w" >/dev/null ;;
+      sfs) "$SFS_FRIG" --quiet sfs -w "$w" --no-overlays >/dev/null
+           sed -i 's/"status": "sfs_failed"/"status": "outlier"/' "$w/report.json" ;;
+    esac
+    echo "### $name, clouds: $kind"
     "$build/bench/retarget_eval" "$model" "$w" --rounds "$rounds" "$@"
   done
 done

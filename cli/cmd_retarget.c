@@ -17,7 +17,9 @@ const char cmd_retarget_usage[] =
     "each photo's expression weights in turn; the rest of the head (neck, ears, eyes, teeth,\n"
     "gums, mouth) follows the face. Then the outer loop: every photo is fitted again on the new\n"
     "rig and the stage runs again, retarget.iterations rounds in all (default 3), stopping\n"
-    "early when a round moves the neutral by less than retarget.stop_mm on average.\n"
+    "early when a round moves the neutral by less than retarget.stop_mm on average. Until the\n"
+    "sfs stage recovers the clouds with the new rig, the clouds stay and one round runs\n"
+    "(retarget.fixed_cloud_rounds): more would fit the same clouds' noise again.\n"
     "Reads WORKSPACE/rig/rig.frigrig (frig fit's model-space rig, or an earlier personalized\n"
     "one) and replaces it; updates WORKSPACE/report.json (each photo's weights and\n"
     "correspondence figures, each round's figures) and draws the rig before and after in\n"
@@ -25,7 +27,7 @@ const char cmd_retarget_usage[] =
     "\n"
     "  -w, --workspace DIR   the workspace folder\n"
     "  --model FILE          the model file (default: $FRIG_MODEL or the user data folder)\n"
-    "  --iterations N        outer rounds (sets retarget.iterations)\n"
+    "  --iterations N        outer rounds (sets retarget.iterations and fixed_cloud_rounds)\n"
     "Parameters: retarget.*, fit.* (frig help params).\n";
 
 int cmd_retarget(cli_env *env, int argc, char **argv) {
@@ -36,7 +38,8 @@ int cmd_retarget(cli_env *env, int argc, char **argv) {
         else if (!strcmp(argv[i], "--iterations") && i + 1 < argc) {
             char *end;
             double v = strtod(argv[++i], &end);
-            if (*end || frig_ctx_set_param(env->ctx, FRIG_PARAM_RETARGET_ITERATIONS, v))
+            if (*end || frig_ctx_set_param(env->ctx, FRIG_PARAM_RETARGET_ITERATIONS, v) ||
+                frig_ctx_set_param(env->ctx, FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS, v))
                 return cli_usage_error("retarget", "--iterations wants a whole number from 1 to 20, not '%s'", argv[i]);
         } else
             return cli_usage_error("retarget", "unexpected argument '%s' (see frig help retarget)", argv[i]);

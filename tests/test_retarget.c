@@ -208,6 +208,7 @@ int main(void) {
     /* The outer loop: two rounds (refit on the rig, retarget), recorded in the report; lighter
      * settings (this checks the loop, not the accuracy). */
     CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_ITERATIONS, 2) == FRIG_OK);
+    CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS, 2) == FRIG_OK);
     CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS, 1) == FRIG_OK);
     CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_DEFORM_ITERATIONS, 2) == FRIG_OK);
     CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_ALTERNATIONS, 1) == FRIG_OK);

@@ -43,8 +43,9 @@ typedef frig_status (*frig_clouds_fn)(void *user, frig_ctx *ctx, const frig_mode
                                       frig_photoset *set, frig_clouds **clouds);
 
 /* The outer loop (Algorithm 3): retarget.iterations rounds of [refit (frig_fit_rig), recover
- * the clouds (recover; NULL keeps the clouds as given), frig_retarget], the first round
- * starting from the fit and clouds as they are. Stops early when the rig's neutral moved less
+ * the clouds (recover; NULL keeps the clouds as given, and then at most
+ * retarget.fixed_cloud_rounds rounds run), frig_retarget], the first round starting from the
+ * fit and clouds as they are. Stops early when the rig's neutral moved less
  * than retarget.stop_mm (mean over the face, mm) in a round. Per-round figures (change,
  * residuals) are recorded in set's report (frig_photoset_save writes them); each round's time
  * goes to the log. */

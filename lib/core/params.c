@@ -166,7 +166,7 @@ static const param_row rows[] = {
     /* retarget (sections 5.2-5.3) */
     {FRIG_PARAM_RETARGET_ITERATIONS, "retarget.iterations", 3, 1, 20, 1,
      "rounds of the outer loop (section 5.3): refit every photo on the rig, recover the clouds, retarget"},
-    {FRIG_PARAM_RETARGET_INNER_ITERATIONS, "retarget.inner_iterations", 2, 1, 20, 1,
+    {FRIG_PARAM_RETARGET_INNER_ITERATIONS, "retarget.inner_iterations", 1, 1, 20, 1,
      "rounds of Algorithm 6 per retarget: correspondences, neutral, blendshapes and weights"},
     {FRIG_PARAM_RETARGET_ALTERNATIONS, "retarget.alternations", 2, 1, 20, 1,
      "alternations of blendshapes and weights (section 5.2.3) per round"},
@@ -185,7 +185,7 @@ static const param_row rows[] = {
      "cloud points of lower confidence are not used"},
     {FRIG_PARAM_RETARGET_SPACING_MM, "retarget.spacing_mm", 4, 0.1, 100, 0,
      "clouds are thinned to one point per cube this wide (mm)"},
-    {FRIG_PARAM_RETARGET_SMOOTH_MM, "retarget.smooth_mm", 6, 0.1, 1000, 0,
+    {FRIG_PARAM_RETARGET_SMOOTH_MM, "retarget.smooth_mm", 10, 0.1, 1000, 0,
      "smoothing length of the Laplacian deformation toward a cloud (mm)"},
     {FRIG_PARAM_RETARGET_TANGENTIAL, "retarget.tangential", 0.25, 0, 1, 0,
      "share of a correspondence's offset along the surface it pulls by (0: point-to-plane, 1: point-to-point)"},
@@ -197,7 +197,7 @@ static const param_row rows[] = {
      "rigid alignment steps of each cloud before the deformation"},
     {FRIG_PARAM_RETARGET_DEFORM_ITERATIONS, "retarget.deform_iterations", 4, 1, 100, 1,
      "rounds of correspondence and Laplacian deformation per cloud"},
-    {FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS, "retarget.identity_iterations", 4, 0, 100, 1,
+    {FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS, "retarget.identity_iterations", 3, 0, 100, 1,
      "steps of the model's identity fitted to all clouds before the correspondences (beyond the paper; 0: off)"},
     {FRIG_PARAM_RETARGET_LANDMARK_MM, "retarget.landmark_mm", 0, 0, 1000, 0,
      "the identity fit also pulls the model's landmark vertices to the photos' landmarks lifted onto the clouds, "
@@ -216,6 +216,14 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_ANCHOR_FRAME, "retarget.anchor_frame", 1, 0, 1, 1,
      "1: after each pass the rig is moved back rigidly to the frame it had (the clouds' alignments leave the frame "
      "free); 0: the clouds' frame (for clouds in a known true frame)"},
+    {FRIG_PARAM_RETARGET_MAX_CORRECTION_DEG, "retarget.max_correction_deg", 15, 0, 180, 0,
+     "a cloud that must be turned more than this (degrees) to fit its photo's reconstruction is not used: it "
+     "shows another surface (a wrong pose, a failed sfs)"},
+    {FRIG_PARAM_RETARGET_MAX_RMS_MM, "retarget.max_rms_mm", 1.5, 0, 1000, 0,
+     "a cloud whose matched points stay farther than this (RMS, mm) from the deformed mesh is not used"},
+    {FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS, "retarget.fixed_cloud_rounds", 1, 1, 20, 1,
+     "outer rounds at most when the clouds cannot be recovered with the new rig (no sfs stage in the loop): later "
+     "rounds only refit the poses, and with the same clouds they fit the clouds' noise again"},
 };
 
 #define N_ROWS (sizeof rows / sizeof rows[0])

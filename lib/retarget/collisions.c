@@ -1,7 +1,8 @@
 /* Collisions a rig's shapes must not have (the whole head follows the personalized face):
  *  - an eyelid inside its eyeball: the signed distance of every skin vertex within LID_REACH
- *    of an eyeball's mesh to that mesh (its nearest point, signed by that triangle's outward
- *    normal; negative = inside);
+ *    of an eyeball's mesh to that mesh (its nearest point; negative = inside, when the vertex is
+ *    nearer the eyeball's centre than that point: the eyeball has layers, the cornea over the
+ *    iris, whose normals do not tell inside from outside);
  *  - teeth through the lips: seen from the front (model +z), the front-most face-region
  *    triangle over a tooth vertex must not be behind it; the depth by which a tooth vertex
  *    stands in front of the skin covering it (positive = through the lips). Where the mouth is
@@ -95,9 +96,12 @@ void fr_rt_lid_clearance(fr_rt_lids *l, const float *x, float *clearance, float 
         fr_tri_tree_refit(tree, x);
         /* Only skin inside the eyeball's box grown by the reach can be near it. */
         float lo[3] = {INFINITY, INFINITY, INFINITY}, hi[3] = {-INFINITY, -INFINITY, -INFINITY};
+        double ctr[3] = {0, 0, 0};
         for (int i = 0; i < 3 * l->nt[e]; i++)
-            for (int k = 0; k < 3; k++)
+            for (int k = 0; k < 3; k++) {
                 lo[k] = fminf(lo[k], x[3 * (size_t)tris[i] + k]), hi[k] = fmaxf(hi[k], x[3 * (size_t)tris[i] + k]);
+                ctr[k] += x[3 * (size_t)tris[i] + k] / (3.0 * l->nt[e]);
+            }
         for (int a = 0; a < l->n_skin; a++) {
             int v = l->skin[a];
             const float *p = x + 3 * (size_t)v;
@@ -107,22 +111,23 @@ void fr_rt_lid_clearance(fr_rt_lids *l, const float *x, float *clearance, float 
             double q[3] = {p[0], p[1], p[2]};
             fr_tri_hit hit;
             if (!fr_tri_tree_nearest(tree, q, LID_REACH, &hit)) continue;
-            const int32_t *tv = tris + 3 * (size_t)hit.tri;
-            double e1[3], e2[3], n[3], dot = 0;
-            for (int k = 0; k < 3; k++) {
-                e1[k] = x[3 * (size_t)tv[1] + k] - x[3 * (size_t)tv[0] + k];
-                e2[k] = x[3 * (size_t)tv[2] + k] - x[3 * (size_t)tv[0] + k];
-            }
-            n[0] = e1[1] * e2[2] - e1[2] * e2[1], n[1] = e1[2] * e2[0] - e1[0] * e2[2], n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-            for (int k = 0; k < 3; k++) dot += n[k] * (q[k] - hit.point[k]);
-            double d = sqrt(hit.dist2) * (dot < 0 ? -1 : 1);
+            (void)tris;
+            double rq = 0, rh = 0;
+            for (int k = 0; k < 3; k++)
+                rq += (q[k] - ctr[k]) * (q[k] - ctr[k]), rh += (hit.point[k] - ctr[k]) * (hit.point[k] - ctr[k]);
+            int inside = rq < rh;
+            double dist = sqrt(hit.dist2), d = inside ? -dist : dist;
             if (d < clearance[v]) {
                 clearance[v] = (float)d;
-                /* Outward: from the nearest point to the vertex (signed), or the normal on it. */
-                double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]), dist = sqrt(hit.dist2);
-                for (int k = 0; k < 3 && direction; k++)
-                    direction[3 * (size_t)v + k] =
-                        (float)(dist > 1e-9 ? (dot < 0 ? -1 : 1) * (q[k] - hit.point[k]) / dist : n[k] / len);
+                /* Outward: away from the centre through the nearest point (from the vertex to it,
+                 * signed; along the centre's direction when the vertex is on the surface). */
+                double u[3], len = 0;
+                for (int k = 0; k < 3; k++) {
+                    u[k] = dist > 1e-9 ? (inside ? -1 : 1) * (q[k] - hit.point[k]) : hit.point[k] - ctr[k];
+                    len += u[k] * u[k];
+                }
+                len = sqrt(len);
+                for (int k = 0; k < 3 && direction; k++) direction[3 * (size_t)v + k] = (float)(len > 0 ? u[k] / len : 0);
             }
         }
     }

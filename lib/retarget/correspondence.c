@@ -162,6 +162,11 @@ void fr_rt_rigid_step(const fr_rt_match *mt, int n, int with_scale, fr_rt_photo 
     p->scale *= grow;
 }
 
+double fr_rt_correction_angle(const fr_rt_photo *p) {
+    double c = 0.5 * (p->R[0] + p->R[4] + p->R[8] - 1);
+    return acos(c > 1 ? 1 : c < -1 ? -1 : c);
+}
+
 /* ---- the whole of Algorithm 7 ---- */
 
 static void coverage(const fr_rt_mesh *m, const fr_rt_match *mt, int n, double area, const double *mass, float *cover) {
@@ -185,7 +190,7 @@ frig_status fr_rt_correspond(frig_ctx *ctx, const fr_rt_settings *s, const fr_rt
     p->inliers = 0;
     p->rms_mm = NAN;
     p->rigid_deg = p->rigid_mm = 0;
-    if (p->n_pick < MIN_INLIERS) return FRIG_OK;
+    if (p->n_pick < MIN_INLIERS || p->rejected) return FRIG_OK;
     fr_rt_match *mt = malloc(sizeof(fr_rt_match) * ((size_t)p->n_pick + 1));
     fr_lap_constraint *con = malloc(sizeof(fr_lap_constraint) * ((size_t)p->n_pick + 1));
     double *u = malloc(sizeof(double) * n3);
@@ -242,6 +247,13 @@ frig_status fr_rt_correspond(frig_ctx *ctx, const fr_rt_settings *s, const fr_rt
             p->inliers = n;
             p->rms_mm = 1e3 * sqrt(ss / n);
             coverage(m, mt, n, area, mass, p->cover);
+            /* A cloud that needed too large a turn, or that the mesh could not follow, is some
+             * other surface than the reconstruction's (a wrong pose, a failed sfs): no data. */
+            if (fr_rt_correction_angle(p) > s->max_correction || 1e-3 * p->rms_mm > s->max_rms) {
+                p->rejected = 1;
+                memset(p->cover, 0, sizeof(float) * (size_t)nv);
+                memcpy(p->M, rest, sizeof(float) * n3);
+            }
         } else {
             memcpy(p->M, rest, sizeof(float) * n3);
         }

@@ -172,7 +172,9 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
             fr_tri_tree *tree = trees[tid];
             fr_tri_tree_refit(tree, x);
             int surface = 0;
-            int rows = photo_rows(s, model, B, m, n_id, K, p, x, tree, mt[tid], max_dist, J, r, &surface);
+            int rows = p->rejected ? 0 : photo_rows(s, model, B, m, n_id, K, p, x, tree, mt[tid], max_dist, J, r, &surface);
+            /* A cloud that needs too large a turn to fit shows something else (a wrong pose). */
+            if (rows && fr_rt_correction_angle(p) > s->max_correction) p->rejected = 1, rows = 0;
             if (rows == 0) continue;
             double *Je = J + (size_t)n_id * LD;
             cblas_dgemv(CblasColMajor, CblasNoTrans, rows, K, 1.0, Je, LD, p->w, 1, 1.0, r, 1); /* b */

@@ -26,6 +26,9 @@ frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_ph
     if (!model || !set || !clouds || !*clouds || !rig)
         return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget_refine: NULL argument");
     int rounds = fr_param_int(ctx, FRIG_PARAM_RETARGET_ITERATIONS);
+    /* Without a way to recover the clouds, later rounds would fit the same clouds' noise again. */
+    int fixed = fr_param_int(ctx, FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS);
+    if (!recover && rounds > fixed) rounds = fixed;
     double stop = fr_param(ctx, FRIG_PARAM_RETARGET_STOP_MM);
     int fr = frig_model_region_find(model, "face"), first = 0, nf = 0;
     if (fr < 0 || frig_model_region(model, fr, NULL, &first, &nf) || first != 0)

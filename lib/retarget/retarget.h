@@ -28,6 +28,8 @@ typedef struct fr_rt_settings {
     int identity_iterations; /* the identity from the clouds before Algorithm 6 (0: off) */
     double landmark_sigma;   /* metres: the lifted landmarks' noise in the identity fit (0: not used) */
     int cloud_scale;         /* 1: the clouds' alignment may also scale them */
+    double max_correction;   /* radians: a cloud that needs a larger turn to fit is not used */
+    double max_rms;          /* metres: a cloud whose points stay farther (RMS) is not used */
     int transfer_gradients;  /* E_t's target: 1 deformation transfer, 0 the template's deltas */
     int anchor_frame;        /* 1: the rig is moved back rigidly to its frame after the pass */
     int threads;
@@ -62,6 +64,7 @@ typedef struct fr_rt_photo {
      * each landmark, before the rigid correction (fr_rt_lift_landmarks) */
     double lm3d[3 * 68];
     uint8_t lm_ok[68];
+    int rejected;                 /* the cloud does not fit the photo's reconstruction: no data */
     /* figures of the last correspondence */
     int inliers;
     double rms_mm;                /* RMS distance of the inlier points to M'_i */
@@ -94,6 +97,9 @@ int fr_rt_match_cloud(const fr_rt_settings *s, const fr_rt_mesh *m, const fr_tri
 /* One point-to-plane ICP step: the photo's correction (a rotation, translation and, when
  * with_scale, scale) moves the cloud onto the mesh. */
 void fr_rt_rigid_step(const fr_rt_match *mt, int n, int with_scale, fr_rt_photo *p);
+/* The angle (radians) of the photo's alignment's rotation. */
+double fr_rt_correction_angle(const fr_rt_photo *p);
+
 /* Unit normal of triangle v (3 vertex indices) of positions x. */
 void fr_rt_tri_normal(const float *x, const int32_t *v, double n[3]);
 
@@ -153,9 +159,10 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
  * already replaced, the other vertices follow the change of the neutral and of every shape
  * from old_neutral / old_deltas (the rig before, all vertices): skin connected to the face by
  * a harmonic extension over the mesh, eyeballs, teeth and gums rigidly with the skin around
- * them, lashes and eye overlays with the nearest skin; then no eyelid vertex is left inside
- * its eyeball in any shape. */
+ * them, lashes and eye overlays with the nearest skin; then in no shape is a lid deeper in its
+ * eyeball, or are the teeth further in front of the lips, than in the reference rig
+ * (ref_neutral / ref_deltas: the rig the pass started from). */
 frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, const float *old_neutral,
-                             const float *old_deltas, frig_rig *rig);
+                             const float *old_deltas, const float *ref_neutral, const float *ref_deltas, frig_rig *rig);
 
 #endif

@@ -48,6 +48,8 @@ void fr_rt_settings_from_ctx(const frig_ctx *ctx, fr_rt_settings *s) {
     s->cloud_scale = fr_param_int(ctx, FRIG_PARAM_RETARGET_CLOUD_SCALE);
     s->transfer_gradients = fr_param_int(ctx, FRIG_PARAM_RETARGET_TRANSFER);
     s->anchor_frame = fr_param_int(ctx, FRIG_PARAM_RETARGET_ANCHOR_FRAME);
+    s->max_correction = fr_param(ctx, FRIG_PARAM_RETARGET_MAX_CORRECTION_DEG) * M_PI / 180;
+    s->max_rms = 1e-3 * fr_param(ctx, FRIG_PARAM_RETARGET_MAX_RMS_MM);
     s->threads = fr_threads(ctx);
 }
 
@@ -261,9 +263,15 @@ frig_status fr_rt_run(frig_ctx *ctx, const fr_rt_settings *s, const frig_model *
     fr_rt_mesh mesh;
     memset(&mesh, 0, sizeof mesh);
     double t_id = seconds_now();
-    float *start = malloc(sizeof(float) * 3 * (size_t)nf);
-    if (!start) return fr_nomem(ctx, "the retarget stage");
-    memcpy(start, rig->neutral, sizeof(float) * 3 * (size_t)nf);
+    /* The rig as the pass found it: the frame to come back to and the collisions' reference. */
+    size_t all3 = 3 * (size_t)rig->topo.vertex_count;
+    float *start = malloc(sizeof(float) * all3), *start_deltas = malloc(sizeof(float) * all3 * (size_t)rig->shape_count);
+    if (!start || !start_deltas) {
+        free(start), free(start_deltas);
+        return fr_nomem(ctx, "the retarget stage");
+    }
+    memcpy(start, rig->neutral, sizeof(float) * all3);
+    memcpy(start_deltas, rig->deltas, sizeof(float) * all3 * (size_t)rig->shape_count);
     /* The identity from the clouds first (the whole head moves with the modes). */
     if (s->identity_iterations > 0 && n_id > 0) {
         r = fr_rt_mesh_make(ctx, nf, rig->topo.triangles, rig->topo.triangle_count, rig->neutral, &mesh);
@@ -327,12 +335,14 @@ frig_status fr_rt_run(frig_ctx *ctx, const fr_rt_settings *s, const frig_model *
             memcpy(old_deltas, rig->deltas, sizeof(float) * rig3 * st.S);
             memcpy(rig->neutral, st.N, sizeof(float) * n3);
             for (int j = 0; j < st.S; j++) memcpy(rig->deltas + rig3 * j, st.D + n3 * j, sizeof(float) * n3);
-            r = fr_rt_whole_head(ctx, model, nf, old_neutral, old_deltas, rig);
+            double t_head = seconds_now();
+            r = fr_rt_whole_head(ctx, model, nf, old_neutral, old_deltas, start, start_deltas, rig);
+            fr_log(ctx, FRIG_LOG_DEBUG, "retarget: the whole head %.2f s", seconds_now() - t_head);
         }
         if (!r && s->anchor_frame) fr_rt_anchor_frame(rig, nf, start);
         free(old_neutral), free(old_deltas);
     }
-    free(start);
+    free(start), free(start_deltas);
     free(D_prev);
     teardown(&st);
     return r;

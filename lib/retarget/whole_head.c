@@ -290,7 +290,7 @@ static frig_status keep_teeth_in(frig_ctx *ctx, const frig_model *model, const h
 }
 
 frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, const float *old_neutral,
-                             const float *old_deltas, frig_rig *rig) {
+                             const float *old_deltas, const float *ref_neutral, const float *ref_deltas, frig_rig *rig) {
     head h;
     memset(&h, 0, sizeof h);
     h.nv = rig->topo.vertex_count;
@@ -323,11 +323,11 @@ frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, con
          * passes. */
         fr_rt_lids *lids = NULL;
         s = fr_rt_lids_create(ctx, model, &lids);
-        float *old_c = s ? NULL : old_clearances(ctx, lids, &h, old_neutral, old_deltas, &s);
+        float *old_c = s ? NULL : old_clearances(ctx, lids, &h, ref_neutral, ref_deltas, &s);
         for (int pass = 0; pass < LID_PASSES && !s; pass++) s = keep_lids_out(ctx, lids, &h, old_c, rig);
         free(old_c);
         fr_rt_lids_free(lids);
-        if (!s) s = keep_teeth_in(ctx, model, &h, old_neutral, old_deltas, rig);
+        if (!s) s = keep_teeth_in(ctx, model, &h, ref_neutral, ref_deltas, rig);
     }
     free(h.part);
     free(h.change);
