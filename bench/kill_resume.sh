@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # frig run killed (SIGKILL) at K random points and resumed until it finishes, against a clean
 # run: rig.glb, shapes/ and clouds/ must be the same bytes. Each kill comes after a random share
-# (10-90%) of the work the clean run's stage times say is left. Prints where each kill landed.
+# (5-70%) of the work the clean run's stage times say is left (less than that is left when detect
+# resumes from its last batch). Prints where each kill landed.
 #   bench/kill_resume.sh INPUT [work-dir] [kills] [seed] [-- extra frig options]
 # e.g. bench/kill_resume.sh ../shared/photos/video_liveportrait_d6/source_video.mp4 /tmp/kr 5
 set -euo pipefail
@@ -31,7 +32,7 @@ PY
 kills=0
 while [ $kills -lt "$kills_wanted" ]; do
   work_left=$(left)
-  delay=$(awk -v r=$RANDOM -v t="$work_left" 'BEGIN{printf "%.3f", (0.1 + 0.8 * r / 32767.0) * t}')
+  delay=$(awk -v r=$RANDOM -v t="$work_left" 'BEGIN{printf "%.3f", (0.05 + 0.65 * r / 32767.0) * t}')
   "$F" --threads 2 run "$input" -o "$work/killed" --no-report "$@" > "$work/killed.$kills.log" 2>&1 &
   pid=$!
   sleep "$delay"
