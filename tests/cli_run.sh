@@ -27,6 +27,8 @@ before=$(cd "$photos" && sha256sum * | sha256sum)
 # The report and the SSD detector are tested by cli_run_report.sh (and identity's tests); here the
 # cascades (detect.detector=1), small textures and --no-report keep a dozen runs quick under ASan.
 run() { "$F" --threads 2 --set detect.detector=1 --set export.texture_size=64 "${@:2}" run "$photos" --model "$M" --no-report -o "$1"; }
+# in the background, as its own process (exec: $! is frig itself, which the kill must hit)
+run_bg() { ( exec "$F" --threads 2 --set detect.detector=1 --set export.texture_size=64 run "$photos" --model "$M" --no-report -o "$1" ) > /dev/null 2>&1 & }
 
 # A clean run.
 run "$tmp/clean" > "$tmp/clean.out" 2> "$tmp/clean.err"; check '[ $? = 0 ]'
@@ -72,7 +74,7 @@ kills=0
 for attempt in 1 2 3 4 5 6; do
   work=$(left)
   delay=$(awk -v r=$RANDOM -v t="$work" 'BEGIN{printf "%.3f", 0.05 + (0.1 + 0.8 * r / 32767.0) * t}')
-  run "$tmp/killed" > /dev/null 2>&1 &
+  run_bg "$tmp/killed"
   pid=$!
   sleep "$delay"
   if kill -9 $pid 2>/dev/null; then kills=$((kills + 1)); echo "killed after $delay s (of ${work} s of work left)"; fi
@@ -84,6 +86,13 @@ echo "killed $kills times, then resumed:"; grep "frig run: \[" "$tmp/killed.err"
 check '[ $kills -ge 2 ]'
 check 'cmp -s "$tmp/killed/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/killed/shapes" "$tmp/ref/shapes"'
 check '[ -z "$(find "$tmp/killed" -name ".*.??????")" ]'   # no temporary files left
+
+# Two runs in one folder at once: the second says so and leaves the first alone.
+run_bg "$tmp/busy"
+pid=$!
+sleep 0.5
+run "$tmp/busy" > /dev/null 2> "$tmp/busy.err"; check '[ $? = 1 ] && grep -q "another frig run is working in $tmp/busy" "$tmp/busy.err"'
+wait $pid; check '[ $? = 0 ] && cmp -s "$tmp/busy/rig.glb" "$tmp/ref/rig.glb"'
 
 # A full disk (a file-size limit the glTF cannot fit in): an error sentence, exit 1; then resumed.
 ( ulimit -f 4000; trap "" XFSZ; exec "$F" --threads 2 --set detect.detector=1 --set export.texture_size=64 run "$photos" --model "$M" --no-report -o "$tmp/full" ) > /dev/null 2> "$tmp/full.err"

@@ -45,7 +45,7 @@ for ref in refs:
 report = json.load(open(os.path.join(out, "report.json")))
 n = len(report["photos"])
 thumbs = len(re.findall(r'src="report/thumbs/\d+\.jpg"', html))
-for need in ('id="rig"', 'id="errors"', 'id="stages"', 'id="photos"', "report/expressions.png",
+for need in ('id="rig"', 'id="errors"', 'id="coverage"', 'id="stages"', 'id="photos"', 'class="expr"', "report/expressions.png",
              "report/neutral_front.png", "Landmark error", "Fit error per photo", "<svg"):
     if need not in html:
         bad.append("no " + need)
