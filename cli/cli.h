@@ -80,6 +80,8 @@ int cmd_filter(cli_env *env, int argc, char **argv);
 extern const char cmd_filter_usage[];
 int cmd_fit(cli_env *env, int argc, char **argv);
 extern const char cmd_fit_usage[];
+int cmd_retarget(cli_env *env, int argc, char **argv);
+extern const char cmd_retarget_usage[];
 int cmd_export(cli_env *env, int argc, char **argv);
 extern const char cmd_export_usage[];
 int cmd_synth(cli_env *env, int argc, char **argv);

@@ -13,9 +13,10 @@ const char cmd_export_usage[] =
     "one full shape per blendshape, ICT vertex order, frig.mtl and its textures); with -o\n"
     "NAME.glb, that file and NAME_shapes/ beside it. The current rig is\n"
     "WORKSPACE/rig/rig.frigrig, written by frig fit (the subject's model-space rig) and replaced\n"
-    "by later stages. Without it, the rig is made from the model and the identity in\n"
-    "WORKSPACE/report.json. The face's base-colour texture is WORKSPACE/textures/albedo.png\n"
-    "when it exists (the sfs stage writes it; ICT's face UV layout), or --texture PNG.\n"
+    "by frig retarget (the personalized rig). Without it, the rig is made from the model and the\n"
+    "identity in WORKSPACE/report.json. The face's base-colour texture is\n"
+    "WORKSPACE/textures/albedo.png when it exists (the sfs stage writes it; ICT's face UV\n"
+    "layout), or --texture PNG.\n"
     "Parameters: export.* (frig help params).\n";
 
 int cmd_export(cli_env *env, int argc, char **argv) {

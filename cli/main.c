@@ -18,6 +18,8 @@ static const cli_command commands[] = {
      cmd_identify_usage},
     {"filter", cmd_filter, "drop photos whose landmarks failed (robust PCA, section 4.2)", cmd_filter_usage},
     {"fit", cmd_fit, "fit the face model to the workspace's photos (sections 4.3-4.4)", cmd_fit_usage},
+    {"retarget", cmd_retarget, "personalize the rig from the photos' point clouds (sections 5.2-5.3)",
+     cmd_retarget_usage},
     {"export", cmd_export, "write the workspace's rig as glTF and OBJ files", cmd_export_usage},
     {"model", cmd_model, "import the ICT-FaceKit model, describe it, export its rig", cmd_model_usage},
     {"synth", cmd_synth, "render synthetic subjects and photos with their ground truth", cmd_synth_usage},

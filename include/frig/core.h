@@ -175,7 +175,33 @@ typedef enum frig_param {
 
     /* export: glTF and OBJ files of a rig */
     FRIG_PARAM_EXPORT_EYE_OVERLAYS = 950,   /* 1: ICT's translucent eye overlays alpha-blended; 0: left out (default 1) */
-    FRIG_PARAM_EXPORT_TEXTURE_SIZE = 951    /* side of the painted eye textures; 0: flat colours (default 512) */
+    FRIG_PARAM_EXPORT_TEXTURE_SIZE = 951,   /* side of the painted eye textures; 0: flat colours (default 512) */
+
+    /* retarget (sections 5.2-5.3, Algorithms 3, 6, 7) */
+    FRIG_PARAM_RETARGET_ITERATIONS = 700,        /* outer rounds: refit, clouds, retarget (default 3) */
+    FRIG_PARAM_RETARGET_INNER_ITERATIONS = 701,  /* Algorithm 6: correspondence, neutral, shapes (default 2) */
+    FRIG_PARAM_RETARGET_ALTERNATIONS = 702,      /* blendshapes <-> weights per inner iteration (default 2) */
+    FRIG_PARAM_RETARGET_W_DATA = 703,            /* eq. 5.16 w_d (default 1) */
+    FRIG_PARAM_RETARGET_W_TRANSFER = 704,        /* eq. 5.16 w_t (default 0.5) */
+    FRIG_PARAM_RETARGET_W_PREV_NEUTRAL = 705,    /* eq. 5.16 w_m in the neutral step (default 0.01) */
+    FRIG_PARAM_RETARGET_W_PREV_SHAPES = 706,     /* eq. 5.16 w_m in the blendshape step (default 0.25) */
+    FRIG_PARAM_RETARGET_MAX_DISTANCE_MM = 707,   /* farther correspondences are rejected (default 10) */
+    FRIG_PARAM_RETARGET_MAX_NORMAL_ANGLE = 708,  /* degrees (default 60) */
+    FRIG_PARAM_RETARGET_MIN_CONFIDENCE = 709,    /* cloud points below are ignored (default 0.5) */
+    FRIG_PARAM_RETARGET_SPACING_MM = 710,        /* clouds thinned to one point per cube this wide (default 4) */
+    FRIG_PARAM_RETARGET_SMOOTH_MM = 711,         /* smoothing length of the Laplacian deformation (default 6) */
+    FRIG_PARAM_RETARGET_TANGENTIAL = 712,        /* share of a match's tangential offset it pulls by (default 0.25) */
+    FRIG_PARAM_RETARGET_WEIGHTS_PRIOR = 713,     /* ridge on the weights' change (default 0.1) */
+    FRIG_PARAM_RETARGET_STOP_MM = 714,           /* the outer loop stops when the neutral moves less (default 0.05) */
+    FRIG_PARAM_RETARGET_RIGID_ITERATIONS = 715,  /* rigid ICP steps before the deformation (default 2) */
+    FRIG_PARAM_RETARGET_DEFORM_ITERATIONS = 716, /* correspondence + deformation rounds (default 4) */
+    FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS = 717, /* identity from the clouds first; 0: off (default 4) */
+    FRIG_PARAM_RETARGET_LANDMARK_MM = 718,       /* noise of the landmarks lifted onto the clouds; 0: unused (default 0) */
+    FRIG_PARAM_RETARGET_SMOOTH_ORDER = 719,      /* 1: membrane, 2: bending energy of the deformation (default 1) */
+    FRIG_PARAM_RETARGET_WEIGHTS_SPARSE = 720,    /* L1 on each photo's weights (default 0.2) */
+    FRIG_PARAM_RETARGET_CLOUD_SCALE = 721,       /* 1: a cloud's alignment may scale it (default 1) */
+    FRIG_PARAM_RETARGET_TRANSFER = 722,          /* E_t: 1 deformation transfer, 0 template deltas (default 0) */
+    FRIG_PARAM_RETARGET_ANCHOR_FRAME = 723       /* 1: each pass keeps the rig in the frame it had (default 1) */
 } frig_param;
 
 FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);

@@ -19,5 +19,6 @@
 #include "frig/fit.h"
 #include "frig/synth.h"
 #include "frig/clouds.h"
+#include "frig/retarget.h"
 
 #endif /* FRIG_FRIG_H */

@@ -51,11 +51,20 @@ static int in_band(const float *neutral, int v, const band *b) {
     return fabs(x) > BAND_MIN_ABS_X && y > b->chin_y - BAND_Y_BELOW_CHIN && y < b->eye_y + BAND_Y_ABOVE_EYES;
 }
 
+/* Column k of the basis: an identity mode, then the fitting expressions (the model's, or the
+ * rig's shape of the same name: NULL when the rig lacks it). */
+static const float *basis_column(const fr_fit_model *fm, int k) {
+    const frig_model *m = fm->model;
+    size_t n3 = 3 * (size_t)frig_model_vertex_count(m);
+    if (k < fm->n_id) return frig_model_identity_modes(m) + n3 * (size_t)k;
+    int e = fm->exp_index[k - fm->n_id];
+    if (!fm->rig) return frig_model_expression_deltas(m) + n3 * (size_t)e;
+    return frig_rig_shape_deltas(fm->rig, frig_rig_shape_find(fm->rig, frig_model_expression_name(m, e)));
+}
+
 static frig_status gather_basis(frig_ctx *ctx, fr_fit_model *fm) {
     const frig_model *m = fm->model;
-    int nv = frig_model_vertex_count(m);
-    const float *neutral = frig_model_neutral(m), *id = frig_model_identity_modes(m);
-    const float *ex = frig_model_expression_deltas(m);
+    const float *neutral = fm->rig ? frig_rig_neutral(fm->rig) : frig_model_neutral(m);
     size_t rows = 3 * (size_t)fm->n_slots;
     fm->mean = malloc(sizeof(double) * rows);
     fm->basis = malloc(sizeof(double) * rows * (size_t)fm->n_cols);
@@ -63,11 +72,11 @@ static frig_status gather_basis(frig_ctx *ctx, fr_fit_model *fm) {
     for (int s = 0; s < fm->n_slots; s++)
         for (int c = 0; c < 3; c++) fm->mean[3 * s + c] = neutral[3 * (size_t)fm->slot_vertex[s] + c];
     for (int k = 0; k < fm->n_cols; k++) {
-        const float *col = k < fm->n_id ? id + 3 * (size_t)nv * (size_t)k
-                                        : ex + 3 * (size_t)nv * (size_t)fm->exp_index[k - fm->n_id];
+        const float *col = basis_column(fm, k);
         for (int s = 0; s < fm->n_slots; s++)
             for (int c = 0; c < 3; c++)
-                fm->basis[(3 * (size_t)s + c) * (size_t)fm->n_cols + k] = col[3 * (size_t)fm->slot_vertex[s] + c];
+                fm->basis[(3 * (size_t)s + c) * (size_t)fm->n_cols + k] =
+                    col ? col[3 * (size_t)fm->slot_vertex[s] + c] : 0.0;
     }
     return FRIG_OK;
 }
@@ -228,6 +237,22 @@ frig_status fr_fit_model_build(frig_ctx *ctx, const frig_model *model, int n_id,
     free(map.of_vertex);
     if (!s) s = build_adjacency(ctx, fm);
     if (!s) s = gather_basis(ctx, fm);
+    if (s) fr_fit_model_free(fm);
+    return s;
+}
+
+frig_status fr_fit_model_build_rig(frig_ctx *ctx, const frig_model *model, const frig_rig *rig, fr_fit_model *fm) {
+    if (frig_rig_vertex_count(rig) != frig_model_vertex_count(model))
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "a rig of %d vertices cannot be fitted with a model of %d",
+                        frig_rig_vertex_count(rig), frig_model_vertex_count(model));
+    /* The slots and rows come from the model (topology); the basis from the rig. */
+    frig_status s = fr_fit_model_build(ctx, model, 0, fm);
+    if (s) return s;
+    fm->rig = rig;
+    free(fm->mean);
+    free(fm->basis);
+    fm->mean = fm->basis = NULL;
+    s = gather_basis(ctx, fm);
     if (s) fr_fit_model_free(fm);
     return s;
 }

@@ -6,12 +6,14 @@
 #define FR_FIT_FIT_MODEL_H
 
 #include "frig/model.h"
+#include "frig/rig.h"
 
 #define FR_LANDMARKS 68
 #define FR_CONTOUR_LANDMARKS 17 /* iBUG 0..16: the jawline */
 
 typedef struct fr_fit_model {
     const frig_model *model;
+    const frig_rig *rig; /* NULL: the model's bases; else the rig's neutral and shapes, no identity */
     int n_id;         /* identity modes fitted */
     int n_exp;        /* expression shapes fitted */
     int *exp_index;   /* model expression index of each fitted expression */
@@ -42,6 +44,11 @@ typedef struct fr_fit_model {
 } fr_fit_model;
 
 frig_status fr_fit_model_build(frig_ctx *ctx, const frig_model *model, int n_id, fr_fit_model *out);
+/* The same vertex slots and silhouette rows on a rig of the model's topology (section 5.3: the
+ * per-image reconstruction with the generated blendshapes): the mean is the rig's neutral, the
+ * basis the rig's shapes named as the model's fitting expressions (a shape the rig lacks gives
+ * a zero column), n_id = 0. */
+frig_status fr_fit_model_build_rig(frig_ctx *ctx, const frig_model *model, const frig_rig *rig, fr_fit_model *out);
 void fr_fit_model_free(fr_fit_model *fm);
 
 /* Positions of the given slots for weights w (n_cols values): out[3k..3k+2]. */

@@ -6,6 +6,7 @@
 #include <cholmod.h>
 
 #include "core/context.h"
+#include "sparse/csr.h"
 #include "sparse/sparse.h"
 
 struct fr_cholesky {
@@ -87,9 +88,8 @@ static fr_cholesky *cholesky_new(void) {
     return ch;
 }
 
-static frig_status analyze_and_factor(frig_ctx *ctx, fr_cholesky *ch) {
-    ch->L = cholmod_analyze(ch->M, &ch->cc);
-    if (!ch->L) return fr_error(ctx, FRIG_ERR_NO_MEMORY, "sparse analysis of a %d x %d system failed", ch->n, ch->n);
+/* Numeric factorization of ch->M into ch->L, with the status as a sentence. */
+static frig_status factor_numeric(frig_ctx *ctx, fr_cholesky *ch) {
     cholmod_factorize(ch->M, ch->L, &ch->cc);
     if (ch->cc.status == CHOLMOD_NOT_POSDEF)
         return fr_error(ctx, FRIG_ERR_NUMERIC, "sparse system of order %d is not positive definite (column %d)",
@@ -97,6 +97,12 @@ static frig_status analyze_and_factor(frig_ctx *ctx, fr_cholesky *ch) {
     if (ch->cc.status < CHOLMOD_OK)
         return fr_error(ctx, FRIG_ERR_NUMERIC, "sparse factorization failed (CHOLMOD status %d)", ch->cc.status);
     return FRIG_OK;
+}
+
+static frig_status analyze_and_factor(frig_ctx *ctx, fr_cholesky *ch) {
+    ch->L = cholmod_analyze(ch->M, &ch->cc);
+    if (!ch->L) return fr_error(ctx, FRIG_ERR_NO_MEMORY, "sparse analysis of a %d x %d system failed", ch->n, ch->n);
+    return factor_numeric(ctx, ch);
 }
 
 frig_status fr_cholesky_create(frig_ctx *ctx, const fr_triplets *lower, fr_cholesky **out) {
@@ -173,15 +179,27 @@ frig_status fr_cholesky_refactor(frig_ctx *ctx, fr_cholesky *ch, const fr_triple
     }
     cholmod_free_sparse(&ch->M, &ch->cc);
     ch->M = M;
-    cholmod_factorize(ch->M, ch->L, &ch->cc);
-    if (ch->cc.status == CHOLMOD_NOT_POSDEF)
-        return fr_error(ctx, FRIG_ERR_NUMERIC, "sparse system of order %d is not positive definite", ch->n);
-    if (ch->cc.status < CHOLMOD_OK)
-        return fr_error(ctx, FRIG_ERR_NUMERIC, "sparse factorization failed (CHOLMOD status %d)", ch->cc.status);
-    return FRIG_OK;
+    return factor_numeric(ctx, ch);
 }
 
 int fr_cholesky_size(const fr_cholesky *ch) { return ch ? ch->n : 0; }
+
+frig_status fr_cholesky_clone(frig_ctx *ctx, const fr_cholesky *src, fr_cholesky **out) {
+    *out = NULL;
+    fr_cholesky *ch = cholesky_new();
+    if (!ch) return fr_nomem(ctx, "a sparse factorization");
+    ch->n = src->n;
+    /* cholmod_copy_* only read their argument; the casts drop const for CHOLMOD's prototypes. */
+    ch->M = cholmod_copy_sparse((cholmod_sparse *)src->M, &ch->cc);
+    ch->A = src->A ? cholmod_copy_sparse((cholmod_sparse *)src->A, &ch->cc) : NULL;
+    ch->L = cholmod_copy_factor((cholmod_factor *)src->L, &ch->cc);
+    if (!ch->M || !ch->L || (src->A && !ch->A)) {
+        fr_cholesky_free(ch);
+        return fr_nomem(ctx, "a copy of a sparse factorization");
+    }
+    *out = ch;
+    return FRIG_OK;
+}
 
 frig_status fr_cholesky_solve(frig_ctx *ctx, fr_cholesky *ch, int nrhs, const double *B, double *X) {
     cholmod_dense *b = cholmod_allocate_dense((size_t)ch->n, (size_t)nrhs, (size_t)ch->n, CHOLMOD_REAL, &ch->cc);
@@ -215,6 +233,48 @@ frig_status fr_cholesky_solve_lsq(frig_ctx *ctx, fr_cholesky *ch, int nrhs, cons
     memcpy(X, x->x, sizeof(double) * (size_t)ch->n * (size_t)nrhs);
     cholmod_free_dense(&x, &ch->cc);
     return FRIG_OK;
+}
+
+frig_status fr_cholesky_create_csr(frig_ctx *ctx, const fr_csr *lower, fr_cholesky **out) {
+    *out = NULL;
+    int n = lower->rows;
+    size_t nnz = 0;
+    for (int r = 0; r < n; r++)
+        for (int k = lower->start[r]; k < lower->start[r + 1] && lower->col[k] <= r; k++) nnz++;
+    fr_cholesky *ch = cholesky_new();
+    if (!ch) return fr_nomem(ctx, "a sparse factorization");
+    ch->n = n;
+    /* Row r of the lower triangle, read as column r of the upper: CHOLMOD's stype = 1. */
+    ch->M = cholmod_allocate_sparse((size_t)n, (size_t)n, nnz, 1, 1, 1, CHOLMOD_REAL, &ch->cc);
+    if (!ch->M) {
+        fr_cholesky_free(ch);
+        return fr_nomem(ctx, "a sparse matrix");
+    }
+    int *cp = ch->M->p, *ri = ch->M->i;
+    double *x = ch->M->x;
+    size_t q = 0;
+    for (int r = 0; r < n; r++) {
+        cp[r] = (int)q;
+        for (int k = lower->start[r]; k < lower->start[r + 1] && lower->col[k] <= r; k++) {
+            ri[q] = lower->col[k];
+            x[q++] = lower->x[k];
+        }
+    }
+    cp[n] = (int)q;
+    frig_status s = analyze_and_factor(ctx, ch);
+    if (s) {
+        fr_cholesky_free(ch);
+        return s;
+    }
+    *out = ch;
+    return FRIG_OK;
+}
+
+size_t fr_cholesky_value_count(const fr_cholesky *ch) { return ch && ch->M ? (size_t)((int *)ch->M->p)[ch->n] : 0; }
+
+frig_status fr_cholesky_refactor_values(frig_ctx *ctx, fr_cholesky *ch, const double *values) {
+    memcpy(ch->M->x, values, sizeof(double) * fr_cholesky_value_count(ch));
+    return factor_numeric(ctx, ch);
 }
 
 void fr_cholesky_free(fr_cholesky *ch) {

@@ -30,6 +30,7 @@ void frig_photoset_free(frig_photoset *set) {
     for (int k = 0; k < set->n_expressions; k++) free(set->expression_names[k]);
     free(set->expression_names);
     free(set->identity);
+    free(set->rt_round);
     free(set->photos);
     free(set);
 }

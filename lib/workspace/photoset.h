@@ -40,7 +40,18 @@ typedef struct fr_photo {
     double *fit_expression;
     double fit_error_px;
     int fit_in_joint;
+    /* retarget (section 5.2): the last pass's correspondence figures; the pass also refines
+     * fit_expression (section 5.2.3 (b)) */
+    int retargeted;
+    int rt_inliers;
+    double rt_rms_mm, rt_rigid_deg, rt_rigid_mm;
 } fr_photo;
+
+/* retarget (section 5.3): one round of the outer loop. */
+typedef struct fr_retarget_round {
+    double change_mm, rms_mm;
+    int photos;
+} fr_retarget_round;
 
 struct frig_photoset {
     fr_photo *photos;
@@ -50,6 +61,9 @@ struct frig_photoset {
     double *identity;
     int n_expressions;
     char **expression_names;
+    /* retarget: the outer loop's rounds (report.json "retarget") */
+    int rt_rounds;
+    fr_retarget_round *rt_round;
     /* identity (lib/identity): the subject's descriptor (the medoid of the dominant cluster),
      * the threshold used, the photos in the cluster, and where the medoid came from */
     int has_subject_id;
@@ -58,6 +72,16 @@ struct frig_photoset {
     size_t subject_id_photos;
     long subject_id_photo, subject_id_face;
 };
+
+/* retarget's part of report.json (lib/workspace/retarget_report.c). */
+struct fr_json;
+void fr_retarget_report_write_photo(struct fr_json *j, const fr_photo *p);
+void fr_retarget_report_write_set(struct fr_json *j, const frig_photoset *set);
+struct cJSON;
+frig_status fr_retarget_report_read_photo(frig_ctx *ctx, frig_photoset *set, size_t photo, const struct cJSON *jp);
+frig_status fr_retarget_report_read_set(frig_ctx *ctx, frig_photoset *set, const struct cJSON *root);
+/* Append a round (the outer loop). */
+frig_status fr_photoset_add_retarget_round(frig_ctx *ctx, frig_photoset *set, const fr_retarget_round *r);
 
 /* Set the fit's shape spaces (drops earlier fit results if the sizes change). */
 frig_status fr_photoset_set_fit_spaces(frig_ctx *ctx, frig_photoset *set, int n_identity, int n_expressions,

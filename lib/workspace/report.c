@@ -78,6 +78,7 @@ static void write_photo(fr_json *j, const frig_photoset *set, const fr_photo *p)
         fr_json_end(j);
     }
     if (p->fitted) write_fit(j, set, p);
+    fr_retarget_report_write_photo(j, p);
     fr_json_end(j);
 }
 
@@ -112,6 +113,7 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
         fr_json_end(&j);
         fr_json_end(&j);
     }
+    fr_retarget_report_write_set(&j, set);
     fr_report_write_set_identity(&j, set);
     fr_json_array(&j, "photos", 0);
     for (size_t i = 0; i < set->count; i++) write_photo(&j, set, &set->photos[i]);
@@ -266,8 +268,8 @@ static frig_status read_photo(reader *r, frig_photoset *set, const cJSON *jp) {
                                  cJSON_IsNumber(se) ? se->valuedouble : 0, rd->valueint);
     }
     const cJSON *fit = cJSON_GetObjectItemCaseSensitive(jp, "fit");
-    if (cJSON_IsObject(fit)) return read_fit(r, set, idx, fit);
-    return FRIG_OK;
+    if (cJSON_IsObject(fit) && (s = read_fit(r, set, idx, fit))) return s;
+    return fr_retarget_report_read_photo(r->ctx, set, idx, jp);
 }
 
 static int is_report(const cJSON *root) {
@@ -307,6 +309,7 @@ frig_status frig_photoset_load(frig_ctx *ctx, const char *workspace, frig_photos
         if (!s) s = read_fit_spaces(ctx, path, set, root);
         for (const cJSON *jp = cJSON_IsArray(photos) ? photos->child : NULL; jp && !s; jp = jp->next, r.photo++)
             s = read_photo(&r, set, jp);
+        if (!s) s = fr_retarget_report_read_set(ctx, set, root);
         char why[256];
         if (!s && fr_report_read_set_identity(set, root, why, sizeof why))
             s = fr_error(ctx, FRIG_ERR_CORRUPT, "%s: %s", path, why);

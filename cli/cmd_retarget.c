@@ -1,0 +1,106 @@
+/* frig retarget -w WORKSPACE: the personalized rig from the photos' point clouds, with the
+ * outer refit loop (paper sections 5.2-5.3, Algorithms 3, 6, 7). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <frig/retarget.h>
+
+#include "cli.h"
+
+const char cmd_retarget_usage[] =
+    "usage: frig retarget -w WORKSPACE [--model FILE] [--iterations N]\n"
+    "\n"
+    "Personalize the workspace's rig beyond the model's span from the photos' point clouds\n"
+    "(WORKSPACE/clouds/, written by the sfs stage): per photo the current reconstruction is\n"
+    "deformed onto its cloud, the neutral is solved from all of them, then the blendshapes and\n"
+    "each photo's expression weights in turn; the rest of the head (neck, ears, eyes, teeth,\n"
+    "gums, mouth) follows the face. Then the outer loop: every photo is fitted again on the new\n"
+    "rig and the stage runs again, retarget.iterations rounds in all (default 3), stopping\n"
+    "early when a round moves the neutral by less than retarget.stop_mm on average.\n"
+    "Reads WORKSPACE/rig/rig.frigrig (frig fit's model-space rig, or an earlier personalized\n"
+    "one) and replaces it; updates WORKSPACE/report.json (each photo's weights and\n"
+    "correspondence figures, each round's figures) and draws the rig before and after in\n"
+    "WORKSPACE/overlays/retarget/rigs.png. frig export writes the result.\n"
+    "\n"
+    "  -w, --workspace DIR   the workspace folder\n"
+    "  --model FILE          the model file (default: $FRIG_MODEL or the user data folder)\n"
+    "  --iterations N        outer rounds (sets retarget.iterations)\n"
+    "Parameters: retarget.*, fit.* (frig help params).\n";
+
+int cmd_retarget(cli_env *env, int argc, char **argv) {
+    const char *ws = NULL, *model_path = NULL;
+    for (int i = 0; i < argc; i++) {
+        if ((!strcmp(argv[i], "-w") || !strcmp(argv[i], "--workspace")) && i + 1 < argc) ws = argv[++i];
+        else if (!strcmp(argv[i], "--model") && i + 1 < argc) model_path = argv[++i];
+        else if (!strcmp(argv[i], "--iterations") && i + 1 < argc) {
+            char *end;
+            double v = strtod(argv[++i], &end);
+            if (*end || frig_ctx_set_param(env->ctx, FRIG_PARAM_RETARGET_ITERATIONS, v))
+                return cli_usage_error("retarget", "--iterations wants a whole number from 1 to 20, not '%s'", argv[i]);
+        } else
+            return cli_usage_error("retarget", "unexpected argument '%s' (see frig help retarget)", argv[i]);
+    }
+    if (!ws) return cli_usage_error("retarget", "no workspace given (-w DIR)");
+    frig_model *model = NULL;
+    frig_photoset *set = NULL;
+    frig_rig *rig = NULL, *before = NULL;
+    frig_clouds *clouds = NULL;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/rig/rig.frigrig", ws);
+    int rc = cli_load_model(env, "retarget", model_path, &model);
+    if (rc) return rc;
+    if (frig_photoset_load(env->ctx, ws, &set)) {
+        rc = cli_fail(env, "retarget");
+        goto done;
+    }
+    if (frig_rig_load(env->ctx, path, &rig)) {
+        if (frig_ctx_status(env->ctx) == FRIG_ERR_NOT_FOUND)
+            rc = cli_usage_error("retarget", "%s has no rig yet (run frig fit first)", ws);
+        else
+            rc = cli_fail(env, "retarget");
+        goto done;
+    }
+    if (frig_clouds_load(env->ctx, set, ws, &clouds)) {
+        rc = cli_fail(env, "retarget");
+        goto done;
+    }
+    size_t with_cloud = 0;
+    for (size_t i = 0; i < frig_photoset_count(set); i++) with_cloud += frig_clouds_count(clouds, i) > 0;
+    if (with_cloud == 0) {
+        rc = cli_usage_error("retarget", "%s/clouds has no point cloud of any photo (run the sfs stage first)", ws);
+        goto done;
+    }
+    if (frig_rig_clone(env->ctx, rig, &before) ||
+        frig_retarget_refine(env->ctx, model, set, &clouds, rig, NULL, NULL) || frig_rig_save(env->ctx, rig, path) ||
+        frig_photoset_save(env->ctx, set, ws)) {
+        rc = cli_fail(env, "retarget");
+        goto done;
+    }
+    /* The picture: the rig before and after. */
+    char sheet[4096];
+    snprintf(sheet, sizeof sheet, "%s/overlays/retarget", ws);
+    const frig_rig *rows[2] = {before, rig};
+    const char *labels[2] = {"before (the rig retarget started from)", "personalized"};
+    if ((rc = cli_make_dir(env, sheet))) goto done;
+    snprintf(sheet, sizeof sheet, "%s/overlays/retarget/rigs.png", ws);
+    if (frig_retarget_write_sheet(env->ctx, model, rows, labels, 2, sheet)) {
+        rc = cli_fail(env, "retarget");
+        goto done;
+    }
+    for (int r = 0; r < frig_photoset_retarget_rounds(set); r++) {
+        double change, rms;
+        int photos;
+        frig_photoset_retarget_round(set, r, &change, &photos, &rms);
+        cli_note(env, "round %d: %d photo%s, neutral moved %.3f mm, cloud RMS %.2f mm", r + 1, photos,
+                 photos == 1 ? "" : "s", change, rms);
+    }
+    cli_note(env, "wrote the personalized rig to %s (frig export -w %s -o OUT writes rig.glb and OBJ files)", path, ws);
+done:
+    frig_clouds_free(clouds);
+    frig_rig_free(before);
+    frig_rig_free(rig);
+    frig_photoset_free(set);
+    frig_model_free(model);
+    return rc;
+}

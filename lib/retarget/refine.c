@@ -1,0 +1,64 @@
+/* Iterative blendshape refinement (paper section 5.3, Algorithm 3): rounds of
+ *     refit every photo on the current rig (frig_fit_rig) -> recover the clouds (the sfs stage,
+ *     through a callback) -> retarget (frig_retarget),
+ * the first round taking the fit and the clouds as they are. The paper runs three rounds; the
+ * loop stops sooner when a round moves the neutral by less than retarget.stop_mm on average
+ * over the face: the rig has stopped changing. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "core/context.h"
+#include "frig/retarget.h"
+#include "model/model.h"
+#include "rig/rig.h"
+#include "workspace/photoset.h"
+
+static double now_seconds(void) {
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_photoset *set, frig_clouds **clouds,
+                                 frig_rig *rig, frig_clouds_fn recover, void *user) {
+    if (!model || !set || !clouds || !*clouds || !rig)
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget_refine: NULL argument");
+    int rounds = fr_param_int(ctx, FRIG_PARAM_RETARGET_ITERATIONS);
+    double stop = fr_param(ctx, FRIG_PARAM_RETARGET_STOP_MM);
+    int fr = frig_model_region_find(model, "face"), first = 0, nf = 0;
+    if (fr < 0 || frig_model_region(model, fr, NULL, &first, &nf) || first != 0)
+        return fr_error(ctx, FRIG_ERR_UNSUPPORTED, "the model has no face region starting at vertex 0");
+    float *before = malloc(sizeof(float) * 3 * (size_t)nf);
+    if (!before) return fr_nomem(ctx, "the outer loop");
+    frig_status s = FRIG_OK;
+    set->rt_rounds = 0; /* this run's rounds only */
+    for (int r = 0; r < rounds && !s; r++) {
+        double t0 = now_seconds();
+        if (r > 0) {
+            s = frig_fit_rig(ctx, model, rig, set);
+            if (!s && recover) s = recover(user, ctx, model, rig, set, clouds);
+        }
+        memcpy(before, frig_rig_neutral(rig), sizeof(float) * 3 * (size_t)nf);
+        if (!s) s = frig_retarget(ctx, model, set, *clouds, rig);
+        if (s) break;
+        const float *after = frig_rig_neutral(rig);
+        double change = 0, rms = 0;
+        for (int v = 0; v < nf; v++) {
+            double d = 0;
+            for (int k = 0; k < 3; k++) d += (after[3 * v + k] - before[3 * v + k]) * (after[3 * v + k] - before[3 * v + k]);
+            change += sqrt(d) / nf;
+        }
+        fr_retarget_round q = {1e3 * change, 0, 0};
+        for (size_t i = 0; i < set->count; i++)
+            if (set->photos[i].retargeted && isfinite(set->photos[i].rt_rms_mm)) q.photos++, rms += set->photos[i].rt_rms_mm;
+        q.rms_mm = q.photos ? rms / q.photos : NAN;
+        s = fr_photoset_add_retarget_round(ctx, set, &q);
+        fr_log(ctx, FRIG_LOG_INFO, "retarget round %d: %.1f s, neutral moved %.3f mm, %d photos, cloud RMS %.2f mm",
+               r + 1, now_seconds() - t0, q.change_mm, q.photos, q.rms_mm);
+        if (q.change_mm < stop) break;
+    }
+    free(before);
+    return s;
+}

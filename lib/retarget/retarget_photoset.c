@@ -1,0 +1,105 @@
+/* The retarget stage over a photo set (paper section 5.2): the fitted photos that have a
+ * cloud, their weights in the rig's shapes, one pass of Algorithm 6 (retarget_stage.c), and
+ * what it found recorded in the set: each photo's refined weights (section 5.2.3 (b)) and its
+ * correspondence figures. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/context.h"
+#include "frig/retarget.h"
+#include "model/model.h"
+#include "retarget/retarget.h"
+#include "rig/rig.h"
+#include "workspace/photoset.h"
+
+#define LANDMARK_RADIUS_PX 1.5 /* cloud points this near a landmark (pixels) stand for it */
+
+/* The face region the stage personalizes: vertices 0 .. nf-1. */
+static frig_status face_count(frig_ctx *ctx, const frig_model *model, int *nf) {
+    int r = frig_model_region_find(model, "face"), first = 0, count = 0;
+    if (r < 0 || frig_model_region(model, r, NULL, &first, &count) || first != 0 || count < 3)
+        return fr_error(ctx, FRIG_ERR_UNSUPPORTED, "the model has no face region starting at vertex 0");
+    *nf = count;
+    return FRIG_OK;
+}
+
+static void free_photos(fr_rt_photo *p, int n) {
+    for (int i = 0; p && i < n; i++) free(p[i].pick), free(p[i].hint), free(p[i].w), free(p[i].M), free(p[i].cover);
+    free(p);
+}
+
+frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset *set, const frig_clouds *clouds,
+                          frig_rig *rig) {
+    if (!model || !set || !clouds || !rig) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget: NULL argument");
+    if (rig->topo.vertex_count != model->topo.vertex_count)
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget: the rig has %d vertices, the model %d",
+                        rig->topo.vertex_count, model->topo.vertex_count);
+    if (frig_clouds_photo_count(clouds) != set->count)
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget: %zu clouds for %zu photos",
+                        frig_clouds_photo_count(clouds), set->count);
+    int nf = 0;
+    frig_status s = face_count(ctx, model, &nf);
+    if (s) return s;
+    /* The fit's expressions as rig shapes (names the rig lacks are left out). */
+    int K = 0, *fit_shape = malloc(sizeof(int) * ((size_t)set->n_expressions + 1));
+    int *slot = malloc(sizeof(int) * ((size_t)set->n_expressions + 1));
+    fr_rt_photo *ph = calloc(set->count + 1, sizeof *ph);
+    if (!fit_shape || !slot || !ph) {
+        free(fit_shape), free(slot), free(ph);
+        return fr_nomem(ctx, "the retarget stage");
+    }
+    for (int k = 0; k < set->n_expressions; k++) {
+        int j = frig_rig_shape_find(rig, set->expression_names[k]);
+        slot[k] = j >= 0 ? K : -1;
+        if (j >= 0) fit_shape[K++] = j;
+    }
+    int n = 0;
+    for (size_t i = 0; i < set->count && !s; i++) {
+        const fr_photo *p = &set->photos[i];
+        if (p->status != FRIG_PHOTO_OK || !p->fitted || frig_clouds_count(clouds, i) == 0) continue;
+        fr_rt_photo *q = &ph[n++];
+        q->index = i;
+        q->xyz = frig_clouds_xyz(clouds, i);
+        q->nrm = frig_clouds_normals(clouds, i);
+        q->conf = frig_clouds_confidence(clouds, i);
+        q->n_points = frig_clouds_count(clouds, i);
+        for (int k = 0; k < 9; k++) q->R[k] = k % 4 == 0;
+        q->scale = 1;
+        const fr_face *face = fr_photo_subject(p);
+        if (face && p->fit_perspective)
+            fr_rt_lift_landmarks(q, p->fit_rotation, p->fit_translation, p->fit_focal, 0.5 * (p->width - 1),
+                                 0.5 * (p->height - 1), face->landmarks, LANDMARK_RADIUS_PX);
+        q->w = calloc((size_t)K + 1, sizeof(double));
+        q->M = malloc(sizeof(float) * 3 * (size_t)nf);
+        q->cover = malloc(sizeof(float) * (size_t)nf);
+        if (!q->w || !q->M || !q->cover) s = fr_nomem(ctx, "the retarget stage");
+        for (int k = 0; k < set->n_expressions && !s; k++)
+            if (slot[k] >= 0) q->w[slot[k]] = p->fit_expression[k];
+    }
+    if (!s && n == 0)
+        s = fr_error(ctx, FRIG_ERR_TOO_FEW, "no photo has both a fit and a point cloud (run frig fit, then the "
+                                            "sfs stage)");
+    if (!s) {
+        fr_rt_settings st;
+        fr_rt_settings_from_ctx(ctx, &st);
+        int n_id = set->n_identity < frig_model_identity_count(model) ? set->n_identity : frig_model_identity_count(model);
+        s = fr_rt_run(ctx, &st, model, rig, nf, K, fit_shape, n, ph, set->identity, n_id);
+    }
+    if (!s) {
+        for (size_t i = 0; i < set->count; i++) set->photos[i].retargeted = 0;
+        for (int a = 0; a < n; a++) {
+            fr_photo *p = &set->photos[ph[a].index];
+            p->retargeted = 1;
+            p->rt_inliers = ph[a].inliers;
+            p->rt_rms_mm = ph[a].rms_mm;
+            p->rt_rigid_deg = ph[a].rigid_deg;
+            p->rt_rigid_mm = ph[a].rigid_mm;
+            for (int k = 0; k < set->n_expressions; k++)
+                if (slot[k] >= 0) p->fit_expression[k] = ph[a].w[slot[k]];
+        }
+    }
+    free_photos(ph, n);
+    free(fit_shape), free(slot);
+    return s;
+}
