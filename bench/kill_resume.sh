@@ -5,16 +5,18 @@
 # resumes from its last batch). Prints where each kill landed.
 #   bench/kill_resume.sh INPUT [work-dir] [kills] [seed] [-- extra frig options]
 # e.g. bench/kill_resume.sh ../shared/photos/video_liveportrait_d6/source_video.mp4 /tmp/kr 5
+# The command is $FRIG_CLI when set (tests/cli_run.sh runs this as its kill test), else build/frig.
 set -euo pipefail
-cd "$(dirname "$0")/.."
-input=$1
+input=$(realpath "$1")
 work=${2:-build/kill-resume}
+mkdir -p "$work"
+work=$(realpath "$work")
 kills_wanted=${3:-5}
 RANDOM=${4:-2026}
 shift $(($# < 4 ? $# : 4))
 [ "${1:-}" = "--" ] && shift
-F=build/frig
-mkdir -p "$work"
+cd "$(dirname "$0")/.."
+F=${FRIG_CLI:-build/frig}
 rm -rf "$work/clean" "$work/killed"
 t0=$SECONDS
 "$F" --threads 2 run "$input" -o "$work/clean" --no-report "$@" > "$work/clean.log" 2>&1

@@ -57,35 +57,15 @@ cp "$tmp/clean/rig.glb" "$tmp/changed.glb"
 run "$tmp/clean" > /dev/null 2>&1; check '[ $? = 0 ]'
 check 'cmp -s "$tmp/clean/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/clean/shapes" "$tmp/ref/shapes" && ! cmp -s "$tmp/changed.glb" "$tmp/ref/rig.glb"'
 
-# Killed (SIGKILL) at random points, resumed until it finishes: the same bytes. Each kill comes
-# at a random share of the work left (the clean run's stage times, less the stages done).
-RANDOM=13
-left() { /usr/bin/python3 - "$tmp/ref" "$tmp/killed" <<'PY'
-import glob, json, os, sys
-ref, run = sys.argv[1:3]
-t = 0.0
-for f in glob.glob(os.path.join(ref, "stages", "*", "stage.json")):
-    r = json.load(open(f))
-    if not os.path.exists(os.path.join(run, "stages", r["stage"], "stage.json")): t += r["seconds"]
-print("%.3f" % t)
-PY
-}
-kills=0
-for attempt in 1 2 3 4 5 6; do
-  work=$(left)
-  delay=$(awk -v r=$RANDOM -v t="$work" 'BEGIN{printf "%.3f", 0.05 + (0.1 + 0.8 * r / 32767.0) * t}')
-  run_bg "$tmp/killed"
-  pid=$!
-  sleep "$delay"
-  if kill -9 $pid 2>/dev/null; then kills=$((kills + 1)); echo "killed after $delay s (of ${work} s of work left)"; fi
-  wait $pid 2>/dev/null
-  [ $kills -ge 3 ] && break
-done
-run "$tmp/killed" > /dev/null 2> "$tmp/killed.err"; check '[ $? = 0 ]'
-echo "killed $kills times, then resumed:"; grep "frig run: \[" "$tmp/killed.err" | cut -c1-100
-check '[ $kills -ge 2 ]'
-check 'cmp -s "$tmp/killed/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/killed/shapes" "$tmp/ref/shapes"'
-check '[ -z "$(find "$tmp/killed" -name ".*.??????")" ]'   # no temporary files left
+# Killed (SIGKILL) at random points and resumed until done: the same bytes as a clean run
+# (bench/kill_resume.sh, the benchmark's kill test, on this small set; 3 kills).
+bash "$FRIG_SOURCE_DIR/bench/kill_resume.sh" "$photos" "$tmp/kr" 3 13 -- --model "$M" --set detect.detector=1 \
+  --set export.texture_size=64 > "$tmp/kr.out" 2>&1
+check '[ $? = 0 ]'
+cat "$tmp/kr.out"
+check 'grep -q "^3 kills; rig.glb, shapes/ and clouds/ byte-identical to the clean run$" "$tmp/kr.out"'
+check 'cmp -s "$tmp/kr/killed/rig.glb" "$tmp/ref/rig.glb"'
+check '[ -z "$(find "$tmp/kr/killed" -name ".*.??????")" ]'   # no temporary files left
 
 # Two runs in one folder at once: the second says so and leaves the first alone.
 run_bg "$tmp/busy"
