@@ -26,7 +26,7 @@ report() { # name, run folder, /usr/bin/time log
   /usr/bin/python3 - "$1" "$2" "$3" <<'PY'
 import glob, json, os, sys
 name, out, tlog = sys.argv[1:4]
-order = ["frames", "detect", "filter", "fit", "export", "report"]
+order = ["frames", "detect", "identity", "filter", "fit", "export", "report"]
 recs = {}
 for f in glob.glob(os.path.join(out, "stages", "*", "stage.json")):
     r = json.load(open(f))

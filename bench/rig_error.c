@@ -1,8 +1,9 @@
-/* The errors of a reconstructed rig against a synthetic subject's true rig (paper section 7.2):
- * the neutral's mean vertex distance after a similarity alignment, E_B (the same for every
- * blendshape, neutral + delta, each aligned on its own, averaged over the shapes) and the delta
- * error (mean distance between the estimated and true deltas, no alignment, over the vertices
- * the true shape moves by more than 0.1 mm). Over the face region (ICT vertices 0-9408), in mm.
+/* The errors of a reconstructed rig against a synthetic subject's true rig (paper section 7.2,
+ * bench/rig_score.h): the neutral's mean vertex distance after a similarity alignment, E_B (the
+ * same for every blendshape, neutral + delta, each aligned on its own, averaged over the shapes)
+ * and the delta error (mean distance between the estimated and true deltas, no alignment, over
+ * the vertices the true shape moves by more than 0.1 mm). Over the face region (ICT vertices
+ * 0-9408), in mm.
  * Printed for the rig given and, as baselines, the model-space rig of the fitted identity (what
  * the fit alone gives; the same as the rig until retarget lands) and the model's mean face.
  *
@@ -14,43 +15,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "eval/shape_error.h"
 #include "frig/frig.h"
+#include "rig_score.h"
 
 #define FACE_VERTICES 9409
-
-typedef struct errors {
-    double neutral_mm, eb_mm, delta_mm;
-    int shapes;
-} errors;
-
-static errors measure(const frig_rig *est, const frig_rig *truth) {
-    errors e = {0, 0, 0, 0};
-    int nv = frig_rig_vertex_count(truth), nf = nv < FACE_VERTICES ? nv : FACE_VERTICES;
-    e.neutral_mm = fr_aligned_mean_distance(frig_rig_neutral(truth), frig_rig_neutral(est), nf) * 1000;
-    size_t n3 = 3 * (size_t)nv;
-    float *a = malloc(sizeof(float) * n3), *b = malloc(sizeof(float) * n3);
-    double delta_sum = 0;
-    long delta_n = 0;
-    for (int k = 0; k < frig_rig_shape_count(truth) && a && b; k++) {
-        int j = frig_rig_shape_find(est, frig_rig_shape_name(truth, k));
-        if (j < 0) continue;
-        const float *dt = frig_rig_shape_deltas(truth, k), *de = frig_rig_shape_deltas(est, j);
-        for (size_t i = 0; i < n3; i++) a[i] = frig_rig_neutral(truth)[i] + dt[i], b[i] = frig_rig_neutral(est)[i] + de[i];
-        e.eb_mm += fr_aligned_mean_distance(a, b, nf) * 1000;
-        e.shapes++;
-        for (int v = 0; v < nf; v++) {
-            const float *t = dt + 3 * (size_t)v, *s = de + 3 * (size_t)v;
-            if (sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) < 1e-4) continue;
-            delta_sum += sqrt((t[0] - s[0]) * (t[0] - s[0]) + (t[1] - s[1]) * (t[1] - s[1]) + (t[2] - s[2]) * (t[2] - s[2]));
-            delta_n++;
-        }
-    }
-    if (e.shapes) e.eb_mm /= e.shapes;
-    e.delta_mm = delta_n ? delta_sum / (double)delta_n * 1000 : NAN;
-    free(a), free(b);
-    return e;
-}
 
 int main(int argc, char **argv) {
     if (argc != 4) {
@@ -76,7 +44,7 @@ int main(int argc, char **argv) {
     } rows[] = {{"the run's rig", est}, {"model-space rig (fit)", model_rig}, {"mean face", mean}};
     printf("%-24s %12s %10s %10s %7s\n", "rig vs truth (face)", "neutral mm", "E_B mm", "delta mm", "shapes");
     for (int i = 0; i < 3; i++) {
-        errors e = measure(rows[i].rig, truth);
+        rig_score e = rig_score_rig(truth, rows[i].rig, FACE_VERTICES);
         printf("%-24s %12.3f %10.3f %10.3f %7d\n", rows[i].name, e.neutral_mm, e.eb_mm, e.delta_mm, e.shapes);
     }
     frig_rig_free(est), frig_rig_free(truth), frig_rig_free(model_rig), frig_rig_free(mean);

@@ -9,12 +9,14 @@
  * old files or new ones, never half ones, and the outputs of a resumed run are the bytes of
  * an uninterrupted one. */
 #include <errno.h>
+#include <fcntl.h>
 #include <limits.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -73,6 +75,16 @@ int run_save_set(run_ctx *r, const frig_photoset *set) {
     snprintf(rel, sizeof rel, "stages/%s", run_stages[r->stage].name);
     run_path(r, rel, dir, sizeof dir);
     if (frig_photoset_save(r->env->ctx, set, dir) || frig_photoset_save(r->env->ctx, set, r->out))
+        return cli_fail(r->env, "run");
+    return CLI_OK;
+}
+
+int run_save_rig(run_ctx *r, const frig_rig *rig) {
+    char rel[256], path[4400];
+    snprintf(rel, sizeof rel, "stages/%s/rig.frigrig", run_stages[r->stage].name);
+    if (frig_rig_save(r->env->ctx, rig, run_path(r, rel, path, sizeof path))) return cli_fail(r->env, "run");
+    if (cli_make_dir(r->env, run_path(r, "rig", path, sizeof path)) ||
+        frig_rig_save(r->env->ctx, rig, run_path(r, "rig/rig.frigrig", path, sizeof path)))
         return cli_fail(r->env, "run");
     return CLI_OK;
 }
@@ -441,6 +453,15 @@ int cmd_run(cli_env *env, int argc, char **argv) {
                           videos == 1 ? "one input" : "some input");
     char stages[4200];
     if (rc == CLI_OK && cli_make_dir(env, run_path(r, "stages", stages, sizeof stages))) rc = CLI_FAILED;
+    /* one run at a time in a folder: a second one would race the first's files */
+    int lock = -1;
+    if (rc == CLI_OK) {
+        char path[4200];
+        lock = open(run_path(r, "stages/lock", path, sizeof path), O_RDWR | O_CREAT, 0644);
+        if (lock < 0) rc = cli_fail_msg("run", "cannot create %s: %s", path, strerror(errno));
+        else if (flock(lock, LOCK_EX | LOCK_NB) != 0)
+            rc = cli_fail_msg("run", "another frig run is working in %s; wait for it to finish", r->out);
+    }
     if (rc == CLI_OK) {
         clean_temps(r);
         run_progress_install(r);
@@ -465,6 +486,7 @@ int cmd_run(cli_env *env, int argc, char **argv) {
             char rel[256];
             snprintf(rel, sizeof rel, "stages/%s", st->name);
             if (st->report) run_path(r, rel, r->from, sizeof r->from);
+            if (st->rig) snprintf(r->rig_from, sizeof r->rig_from, "%s/stages/%s/rig.frigrig", r->out, st->name);
         }
         signal(SIGINT, SIG_DFL);
         signal(SIGTERM, SIG_DFL);
@@ -487,6 +509,7 @@ int cmd_run(cli_env *env, int argc, char **argv) {
             if (!env->quiet) fprintf(stderr, "frig run: done in %.1f s\n", run_now() - r->t0);
         }
     }
+    if (lock >= 0) close(lock); /* releases the lock */
     frig_model_free(r->model);
     free(r->sources);
     cli_inputs_free(&inputs);

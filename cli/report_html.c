@@ -200,7 +200,8 @@ static int make_pictures(run_ctx *r, int *have_rig) {
     char path[4200], rig_path[4200], tex[4200];
     *have_rig = 0;
     frig_rig *rig = NULL;
-    if (frig_rig_load(env->ctx, run_path(r, "rig/rig.frigrig", rig_path, sizeof rig_path), &rig)) return CLI_OK;
+    (void)rig_path;
+    if (!r->rig_from[0] || frig_rig_load(env->ctx, r->rig_from, &rig)) return CLI_OK;
     struct stat st;
     if (stat(run_path(r, "textures/albedo.png", tex, sizeof tex), &st) == 0 && frig_rig_set_face_texture(env->ctx, rig, tex)) {
         frig_rig_free(rig);
@@ -367,6 +368,71 @@ static void section_errors(page *p, run_ctx *r, const frig_photoset *set) {
     free(err), free(eye), free(all), free(jaw), free(inner), free(rms), free(fe), free(fd);
 }
 
+/* How often the used photos show each fitted expression: the data a personalized blendshape is
+ * learnt from (retarget); a shape no photo shows can only stay the template's. */
+static void section_coverage(page *p, const frig_photoset *set) {
+    int k = set ? frig_photoset_fit_expression_count(set) : 0;
+    size_t n = set ? frig_photoset_count(set) : 0, used = 0;
+    if (!k) return;
+    double *w = malloc(sizeof(double) * (size_t)k), *top = calloc((size_t)k, sizeof(double));
+    int *count = calloc((size_t)k, sizeof(int));
+    if (!w || !top || !count) {
+        free(w), free(top), free(count);
+        return;
+    }
+    for (size_t i = 0; i < n; i++) {
+        if (!frig_photoset_fitted(set, i) || frig_photoset_status(set, i) != FRIG_PHOTO_OK ||
+            frig_photoset_fit_expression(set, i, w))
+            continue;
+        used++;
+        for (int j = 0; j < k; j++) {
+            count[j] += w[j] >= 0.3;
+            if (w[j] > top[j]) top[j] = w[j];
+        }
+    }
+    int shown = 0;
+    for (int j = 0; j < k; j++) shown += count[j] > 0;
+    put(p, "<h2 id=\"coverage\">What the photos show</h2>\n<p class=\"muted\">For each expression the fit uses: how "
+           "many of the %zu used photos show it at weight 0.3 or more (bar) and the strongest weight seen. %d of %d "
+           "are shown by at least one photo; the personalized blendshapes (the retarget stage) learn from these photos, "
+           "and a shape no photo shows stays the template's.</p>\n<div class=\"cover\">",
+        used, shown, k);
+    for (int j = 0; j < k; j++) {
+        double share = used ? (double)count[j] / (double)used : 0;
+        put(p, "<div class=\"cov%s\"><span class=\"cname\">", count[j] ? "" : " none");
+        put_text(p, frig_photoset_fit_expression_name(set, j));
+        put(p, "</span><span class=\"bar\"><span style=\"width:%.1f%%\"></span></span><span class=\"cnum\">%d"
+               " &middot; max %.2f</span></div>",
+            100 * share, count[j], top[j]);
+    }
+    put(p, "</div>\n");
+    free(w), free(top), free(count);
+}
+
+/* The photo's strongest fitted expressions ("jawOpen 0.62, eyeBlink_L 0.41"). */
+static void put_top_expressions(page *p, const frig_photoset *set, size_t i) {
+    int k = frig_photoset_fit_expression_count(set);
+    double *w = k ? malloc(sizeof(double) * (size_t)k) : NULL;
+    if (!w || frig_photoset_fit_expression(set, i, w)) {
+        free(w);
+        return;
+    }
+    int shown = 0;
+    for (int t = 0; t < 3; t++) {
+        int best = -1;
+        for (int j = 0; j < k; j++)
+            if (w[j] >= 0.2 && (best < 0 || w[j] > w[best])) best = j;
+        if (best < 0) break;
+        put(p, "%s", shown++ ? ", " : "<div class=\"expr\">");
+        put_text(p, frig_photoset_fit_expression_name(set, best));
+        put(p, " %.2f", w[best]);
+        w[best] = -1;
+    }
+    if (shown) put(p, "</div>");
+    else put(p, "<div class=\"expr\">neutral</div>");
+    free(w);
+}
+
 static void section_stages(page *p, run_ctx *r, const frig_photoset *set) {
     put(p, "<h2 id=\"stages\">Stages: time and memory</h2>\n<table class=\"stages\"><tr><th>stage</th><th>what</th><th>"
            "this run</th><th class=\"num\">seconds</th><th class=\"num\">peak memory</th><th>result</th></tr>\n");
@@ -447,6 +513,7 @@ static void section_photos(page *p, run_ctx *r, const frig_photoset *set) {
             if (frig_photoset_fitted(set, i)) put(p, " fit %.2f px", frig_photoset_fit_error(set, i));
             if (frig_photoset_fit_in_joint(set, i)) put(p, ", joint");
             put(p, "</div>");
+            if (frig_photoset_fitted(set, i)) put_top_expressions(p, set, i);
             const char *why = frig_photoset_reason(set, i);
             if (why && *why) {
                 put(p, "<div class=\"why\">");
@@ -490,7 +557,12 @@ static const char style[] =
     ".badge{display:inline-block;border-radius:4px;padding:0 6px;font-size:12px;font-weight:600}.badge.ok{background:#2f5a2a;"
     "color:#c9f0bf}.badge.warn{background:#6a4a1f;color:#ffd9a8}.badge.bad{background:#6a2a26;color:#ffc7c0}"
     ".badge.none{background:#3d3f44;color:#d0d1d4}.badge.dup{background:#2c3e56;color:#c8dcf5}\n"
-    ".photo.warn{border-color:#5a4220}.photo.bad{border-color:#5a2622}.count{color:#9a9b98;font-weight:400}\n"
+    ".photo.warn{border-color:#5a4220}.photo.bad{border-color:#5a2622}.count{color:#9a9b98;font-weight:400}"
+    ".photo .expr{color:#c8b98a;margin-top:2px}\n"
+    ".cover{display:grid;grid-template-columns:repeat(auto-fill,minmax(330px,1fr));gap:3px 18px;font-size:13px}"
+    ".cov{display:flex;align-items:center;gap:8px}.cov.none{color:#777}.cname{width:118px;white-space:nowrap;"
+    "overflow:hidden;text-overflow:ellipsis}.bar{flex:1;height:9px;background:#2a2c30;border-radius:4px;overflow:hidden}"
+    ".bar span{display:block;height:100%;background:#c8a95a}.cnum{width:108px;text-align:right;color:#9a9b98;white-space:nowrap}\n"
     "</style>\n";
 
 int run_write_report(run_ctx *r) {
@@ -511,11 +583,12 @@ int run_write_report(run_ctx *r) {
     put(&p, "</title>\n%s</head><body><main>\n<h1>frig run report</h1><div class=\"muted\">", style);
     put_text(&p, r->out);
     put(&p, " &middot; libfrig %s</div>\n<nav><a href=\"#rig\">rig</a><a href=\"#errors\">error curves</a><a "
-            "href=\"#stages\">time and memory</a><a href=\"#photos\">photos</a></nav>\n",
+            "href=\"#coverage\">expressions</a><a href=\"#stages\">time and memory</a><a href=\"#photos\">photos</a></nav>\n",
         frig_version_string());
     section_summary(&p, r, set, have_rig);
     section_rig(&p, have_rig);
     section_errors(&p, r, set);
+    section_coverage(&p, set);
     section_stages(&p, r, set);
     section_photos(&p, r, set);
     put(&p, "</main></body></html>\n");

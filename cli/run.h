@@ -28,6 +28,9 @@ typedef struct run_stage {
                           * '@' stands for the rig's paths (@glb, @shapes) */
     const char *digest;  /* the outputs later stages read (hashed into their keys) */
     int report;          /* 1: it changes report.json (snapshot OUT/stages/NAME/report.json) */
+    int rig;             /* 1: it makes the rig (snapshot OUT/stages/NAME/rig.frigrig, also the
+                          * workspace's current rig OUT/rig/rig.frigrig); later stages read the
+                          * last such snapshot, never the current file another stage may replace */
     /* 1 when the stage has work in this run (NULL: always) */
     int (*wanted)(run_ctx *r);
     /* its options besides parameters (input files and their hashes, ...) into opts; NULL: none */
@@ -69,6 +72,7 @@ struct run_ctx {
     /* the stage running now */
     int stage;
     char from[4096];      /* the folder whose report.json the stage starts from */
+    char rig_from[4200];  /* the rig the stage starts from (the last rig stage's snapshot) */
     char stop[1024];      /* why the run stopped (RUN_STOP) */
     run_result results[16];
     double t0;            /* start of the invocation (monotonic seconds) */
@@ -133,6 +137,8 @@ int run_load_model(run_ctx *r);
  * and the stage's snapshot. */
 int run_load_set(run_ctx *r, frig_photoset **set);
 int run_save_set(run_ctx *r, const frig_photoset *set);
+/* Save the stage's rig: its snapshot and the workspace's current rig. */
+int run_save_rig(run_ctx *r, const frig_rig *rig);
 /* Count photos by status; usable = ok (and fitted when fitted is 1). Then the sentence for
  * too few, into r->stop, and RUN_STOP; else CLI_OK. */
 int run_check_enough(run_ctx *r, const frig_photoset *set, int fitted);

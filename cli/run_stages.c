@@ -321,9 +321,8 @@ static int fit_run(run_ctx *r) {
     const double *identity;
     if (rc == CLI_OK) {
         frig_photoset_identity(set, &identity);
-        if (frig_rig_from_model(env->ctx, r->model, identity, &rig) || cli_make_dir(env, run_path(r, "rig", path, sizeof path)) ||
-            frig_rig_save(env->ctx, rig, run_path(r, "rig/rig.frigrig", path, sizeof path)))
-            rc = fail_or_interrupted(r);
+        if (frig_rig_from_model(env->ctx, r->model, identity, &rig)) rc = fail_or_interrupted(r);
+        else rc = run_save_rig(r, rig);
     }
     if (rc == CLI_OK) {
         run_path(r, "overlays/fit", path, sizeof path);
@@ -352,6 +351,7 @@ static int fit_run(run_ctx *r) {
 
 static int export_options(run_ctx *r, cJSON *opts) {
     char path[4200];
+    add_file_hash(opts, "rig", r->rig_from);
     run_path(r, "textures/albedo.png", path, sizeof path);
     struct stat st;
     if (stat(path, &st) == 0) add_file_hash(opts, "face_texture", path);
@@ -364,7 +364,7 @@ static int export_run(run_ctx *r) {
     cli_env *env = r->env;
     char path[4200];
     frig_rig *rig = NULL;
-    if (frig_rig_load(env->ctx, run_path(r, "rig/rig.frigrig", path, sizeof path), &rig)) return cli_fail(env, "run");
+    if (frig_rig_load(env->ctx, r->rig_from, &rig)) return cli_fail(env, "run");
     run_path(r, "textures/albedo.png", path, sizeof path);
     struct stat st;
     int rc = CLI_OK, textured = stat(path, &st) == 0;
@@ -389,20 +389,20 @@ static int report_run(run_ctx *r) { return run_write_report(r); }
 
 const run_stage run_stages[] = {
     {"frames", "frames sampled from the videos with ffmpeg", "run.video_frames", "the video files", "frames",
-     "frames", 0, has_videos, frames_options, frames_run},
+     "frames", 0, 0, has_videos, frames_options, frames_run},
     {"detect", "faces and 68 landmarks per photo (section 4.2)", "detect. image.", "the photos, OpenCV's cascades, dlib's landmark model",
-     "stages/detect/report.json overlays/detect", "stages/detect/report.json", 1, NULL, detect_options, detect_run},
+     "stages/detect/report.json overlays/detect", "stages/detect/report.json", 1, 0, NULL, detect_options, detect_run},
     {"identity", "who is in each photo: the set's dominant person, photos of others set aside", "identity.",
-     "report.json (the faces' descriptors)", "stages/identity/report.json", "stages/identity/report.json", 1, NULL, NULL,
+     "report.json (the faces' descriptors)", "stages/identity/report.json", "stages/identity/report.json", 1, 0, NULL, NULL,
      identity_run},
     {"filter", "failed detections dropped by robust PCA (Algorithm 1)", "filter. image.max_pixels", "report.json, the photos",
-     "stages/filter/report.json filter_contact_sheet.png", "stages/filter/report.json", 1, NULL, NULL, filter_run},
+     "stages/filter/report.json filter_contact_sheet.png", "stages/filter/report.json", 1, 0, NULL, NULL, filter_run},
     {"fit", "camera, pose and expression per photo, one identity (sections 4.3-4.4)", "fit. image.",
-     "report.json, the photos, the face model", "stages/fit/report.json rig/rig.frigrig overlays/fit",
-     "stages/fit/report.json rig/rig.frigrig", 1, NULL, fit_options, fit_run},
-    {"export", "the rig as glTF and OBJ files", "export.", "rig/rig.frigrig, textures/albedo.png", "@glb @shapes", "@glb",
-     0, NULL, export_options, export_run},
+     "report.json, the photos, the face model", "stages/fit/report.json stages/fit/rig.frigrig overlays/fit",
+     "stages/fit/report.json stages/fit/rig.frigrig", 1, 1, NULL, fit_options, fit_run},
+    {"export", "the rig as glTF and OBJ files", "export.", "the rig (the last rig stage's), textures/albedo.png", "@glb @shapes", "@glb",
+     0, 0, NULL, export_options, export_run},
     {"report", "report.html: photos, renders, error curves, times", "", "everything above", "report.html report",
-     "report.html", 0, report_wanted, NULL, report_run},
+     "report.html", 0, 0, report_wanted, NULL, report_run},
 };
 const int run_stage_count = (int)(sizeof run_stages / sizeof run_stages[0]);

@@ -24,8 +24,11 @@ M="$FRIG_TEST_MODEL"
   synth --model "$M" -o "$tmp/synth" --photos 10 --seed 7 > /dev/null || exit 1
 photos="$tmp/synth/subject_00/photos"
 before=$(cd "$photos" && sha256sum * | sha256sum)
-# the report and its pictures are tested by cli_run_report.sh; here --no-report keeps it quick
-run() { "$F" --threads 2 --set export.texture_size=128 "${@:2}" run "$photos" --model "$M" --no-report -o "$1"; }
+# The report and the SSD detector are tested by cli_run_report.sh (and identity's tests); here the
+# cascades (detect.detector=1), small textures and --no-report keep a dozen runs quick under ASan.
+run() { "$F" --threads 2 --set detect.detector=1 --set export.texture_size=64 "${@:2}" run "$photos" --model "$M" --no-report -o "$1"; }
+# in the background, as its own process (exec: $! is frig itself, which the kill must hit)
+run_bg() { ( exec "$F" --threads 2 --set detect.detector=1 --set export.texture_size=64 run "$photos" --model "$M" --no-report -o "$1" ) > /dev/null 2>&1 & }
 
 # A clean run.
 run "$tmp/clean" > "$tmp/clean.out" 2> "$tmp/clean.err"; check '[ $? = 0 ]'
@@ -35,6 +38,7 @@ check 'grep -q "^rig: $tmp/clean/rig.glb and $tmp/clean/shapes/$" "$tmp/clean.ou
 for s in detect identity filter fit export; do check '[ -s "$tmp/clean/stages/'$s'/stage.json" ]'; done
 check '[ ! -e "$tmp/clean/stages/frames" ] && [ ! -e "$tmp/clean/stages/detect/partial" ]'
 check '[ "$(cd "$photos" && sha256sum * | sha256sum)" = "$before" ]'   # inputs untouched
+mkdir -p "$tmp/ref" && cp -r "$tmp/clean/rig.glb" "$tmp/clean/shapes" "$tmp/clean/stages" "$tmp/ref/"
 
 # Nothing changed: every stage up to date, the rig not rewritten.
 stamp=$(stat -c %Y.%y "$tmp/clean/rig.glb")
@@ -51,41 +55,27 @@ check 'grep -q "filter .*up to date" "$tmp/fit.err" && ! grep -q "fit .*up to da
 # Back to the defaults: the clean run's bytes again.
 cp "$tmp/clean/rig.glb" "$tmp/changed.glb"
 run "$tmp/clean" > /dev/null 2>&1; check '[ $? = 0 ]'
-run "$tmp/ref" > /dev/null 2>&1
-check 'cmp -s "$tmp/clean/rig.glb" "$tmp/ref/rig.glb" && ! cmp -s "$tmp/changed.glb" "$tmp/ref/rig.glb"'
+check 'cmp -s "$tmp/clean/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/clean/shapes" "$tmp/ref/shapes" && ! cmp -s "$tmp/changed.glb" "$tmp/ref/rig.glb"'
 
-# Killed (SIGKILL) at random points, resumed until it finishes: the same bytes. Each kill comes
-# at a random share of the work left (the clean run's stage times, less the stages done).
-RANDOM=13
-left() { /usr/bin/python3 - "$tmp/ref" "$tmp/killed" <<'PY'
-import glob, json, os, sys
-ref, run = sys.argv[1:3]
-t = 0.0
-for f in glob.glob(os.path.join(ref, "stages", "*", "stage.json")):
-    r = json.load(open(f))
-    if not os.path.exists(os.path.join(run, "stages", r["stage"], "stage.json")): t += r["seconds"]
-print("%.3f" % t)
-PY
-}
-kills=0
-for attempt in 1 2 3 4 5 6; do
-  work=$(left)
-  delay=$(awk -v r=$RANDOM -v t="$work" 'BEGIN{printf "%.3f", 0.05 + (0.1 + 0.8 * r / 32767.0) * t}')
-  run "$tmp/killed" > /dev/null 2>&1 &
-  pid=$!
-  sleep "$delay"
-  if kill -9 $pid 2>/dev/null; then kills=$((kills + 1)); echo "killed after $delay s (of ${work} s of work left)"; fi
-  wait $pid 2>/dev/null
-  [ $kills -ge 3 ] && break
-done
-run "$tmp/killed" > /dev/null 2> "$tmp/killed.err"; check '[ $? = 0 ]'
-echo "killed $kills times, then resumed:"; grep "frig run: \[" "$tmp/killed.err" | cut -c1-100
-check '[ $kills -ge 2 ]'
-check 'cmp -s "$tmp/killed/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/killed/shapes" "$tmp/ref/shapes"'
-check '[ -z "$(find "$tmp/killed" -name ".*.??????")" ]'   # no temporary files left
+# Killed (SIGKILL) at random points and resumed until done: the same bytes as a clean run
+# (bench/kill_resume.sh, the benchmark's kill test, on this small set; 3 kills).
+bash "$FRIG_SOURCE_DIR/bench/kill_resume.sh" "$photos" "$tmp/kr" 3 13 -- --model "$M" --set detect.detector=1 \
+  --set export.texture_size=64 > "$tmp/kr.out" 2>&1
+check '[ $? = 0 ]'
+cat "$tmp/kr.out"
+check 'grep -q "^3 kills; rig.glb, shapes/ and clouds/ byte-identical to the clean run$" "$tmp/kr.out"'
+check 'cmp -s "$tmp/kr/killed/rig.glb" "$tmp/ref/rig.glb"'
+check '[ -z "$(find "$tmp/kr/killed" -name ".*.??????")" ]'   # no temporary files left
+
+# Two runs in one folder at once: the second says so and leaves the first alone.
+run_bg "$tmp/busy"
+pid=$!
+sleep 0.5
+run "$tmp/busy" > /dev/null 2> "$tmp/busy.err"; check '[ $? = 1 ] && grep -q "another frig run is working in $tmp/busy" "$tmp/busy.err"'
+wait $pid; check '[ $? = 0 ] && cmp -s "$tmp/busy/rig.glb" "$tmp/ref/rig.glb"'
 
 # A full disk (a file-size limit the glTF cannot fit in): an error sentence, exit 1; then resumed.
-( ulimit -f 4000; trap "" XFSZ; exec "$F" --threads 2 --set export.texture_size=128 run "$photos" --model "$M" --no-report -o "$tmp/full" ) > /dev/null 2> "$tmp/full.err"
+( ulimit -f 4000; trap "" XFSZ; exec "$F" --threads 2 --set detect.detector=1 --set export.texture_size=64 run "$photos" --model "$M" --no-report -o "$tmp/full" ) > /dev/null 2> "$tmp/full.err"
 check '[ $? = 1 ] && grep -q "File too large\|write failed" "$tmp/full.err"'
 run "$tmp/full" > /dev/null 2> "$tmp/full2.err"; check '[ $? = 0 ]'
 check 'grep -q "detect .*up to date" "$tmp/full2.err" && cmp -s "$tmp/full/rig.glb" "$tmp/ref/rig.glb"'
@@ -96,10 +86,10 @@ check 'cmp -s "$tmp/named/face.glb" "$tmp/ref/rig.glb" && [ -f "$tmp/named/face_
 
 # Too few usable photos: a sentence naming how many and why, exit 1.
 mkdir -p "$tmp/few" && cp "$photos/photo_000.jpg" "$photos/photo_001.jpg" "$tmp/few/" && cp "$photos/photo_001.jpg" "$tmp/few/copy.jpg"
-"$F" --threads 2 run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2> "$tmp/few.err"; check '[ $? = 1 ]'
+"$F" --threads 2 --set detect.detector=1 run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2> "$tmp/few.err"; check '[ $? = 1 ]'
 cat "$tmp/few.err" | tail -1
 check 'grep -q "stopped: 2 of 3 photos are usable after detect, and a rig needs at least 5 (run.min_photos): 1 duplicate" "$tmp/few.err"'
 check '[ ! -e "$tmp/fewout/rig.glb" ]'
-"$F" --quiet --threads 2 --set run.min_photos=2 run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2>&1
+"$F" --quiet --threads 2 --set detect.detector=1 --set run.min_photos=2 run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2>&1
 check '[ $? = 0 ] && [ -s "$tmp/fewout/rig.glb" ]'
 exit $fail
