@@ -3,10 +3,11 @@
  * depth: bench/truth_clouds). Prints, against the subject's true rig, the neutral error, E_B
  * and the moving-vertex delta error (bench/rig_score.h) of: the generic template, the fit's
  * model-space rig, the best in-span rig (the true identity with the template's deltas), and
- * the rig after each outer round (refit on the rig, retarget; the clouds stay), with each
+ * the rig after each outer round (refit on the rig, with --sfs the clouds recovered by the sfs
+ * stage with the new rig, retarget; else the clouds stay), with each
  * round's time, the expression-weight error against the truth and the correspondence figures.
  * Usage: retarget_eval MODEL WORKSPACE [--rounds N] [--threads T] [--set NAME=VALUE]...
- *                      [--save RIG] [--quiet] */
+ *                      [--sfs] [--save RIG] [--quiet] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -168,8 +169,9 @@ static void cloud_error_report(frig_ctx *ctx, const frig_photoset *set, const fr
                                const frig_rig *truth, int nf) {
     fr_rt_settings s;
     fr_rt_settings_from_ctx(ctx, &s);
-    s.rigid_iterations = 8;
+    s.rigid_iterations = 20;
     s.deform_iterations = 1;
+    s.max_correction = M_PI, s.max_rms = 1; /* the cloud's frame is the fit's: measure, do not reject */
     s.smooth = 10.0; /* metres: no deformation to speak of */
     s.cloud_scale = 1;
     fr_rt_mesh m;
@@ -388,11 +390,11 @@ static void collision_row(frig_ctx *ctx, const frig_model *model, const char *na
 int main(int argc, char **argv) {
     if (argc < 3) {
         fprintf(stderr, "usage: retarget_eval MODEL WORKSPACE [--rounds N] [--threads T] [--set NAME=VALUE] "
-                        "[--save RIG] [--quiet]\n");
+                        "[--sfs] [--save RIG] [--quiet]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
-    int rounds = 3, threads = 0, quiet = 0, corr = 0, id_steps = 0, limit = 0;
+    int rounds = 3, threads = 0, quiet = 0, corr = 0, id_steps = 0, limit = 0, sfs = 0;
     const char *save = NULL, *sheet = NULL, *ws = argv[2];
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--rounds") && i + 1 < argc) rounds = atoi(argv[++i]);
@@ -400,6 +402,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--save") && i + 1 < argc) save = argv[++i];
         else if (!strcmp(argv[i], "--sheet") && i + 1 < argc) sheet = argv[++i];
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;
+        else if (!strcmp(argv[i], "--sfs")) sfs = 1;
         else if (!strcmp(argv[i], "--correspondence")) corr = 1;
         else if (!strcmp(argv[i], "--oracle")) corr = 2;
         else if (!strcmp(argv[i], "--cloud-error")) corr = 3;
@@ -467,13 +470,19 @@ int main(int argc, char **argv) {
     if (id_steps) identity_report(ctx, model, set, clouds, rig, truth, nf, id_steps, wtrue);
     if (corr == 1) correspondence_report(ctx, model, set, clouds, rig, truth, nf);
     for (int r = 0; r < rounds; r++) {
-        double t0 = now(), t_fit = 0;
+        double t0 = now(), t_fit = 0, t_sfs = 0;
         if (r > 0) {
             if (frig_fit_rig(ctx, model, rig, set)) {
                 fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
                 return 1;
             }
             t_fit = now() - t0;
+            if (sfs && frig_retarget_recover_sfs(NULL, ctx, model, rig, set, &clouds)) {
+                fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
+                return 1;
+            }
+            t_sfs = now() - t0 - t_fit;
+            if (sfs && corr == 3) cloud_error_report(ctx, set, clouds, truth, nf);
         }
         double t1 = now();
         if (frig_retarget(ctx, model, set, clouds, rig)) {
@@ -489,9 +498,9 @@ int main(int argc, char **argv) {
             if (frig_photoset_retarget_figures(set, i, &inl, &a, &b, &c) || !isfinite(a)) continue;
             n++, rms += a, rdeg += b, rmm += c;
         }
-        snprintf(extra, sizeof extra, "%d photos, fit %.2f s + retarget %.2f s; |w - w_true| %.4f; cloud RMS %.2f mm, "
-                                      "rigid %.2f deg %.2f mm",
-                 n, t_fit, t_rt, weight_error(set), rms / n, rdeg / n, rmm / n);
+        snprintf(extra, sizeof extra, "%d photos, fit %.2f s + sfs %.2f s + retarget %.2f s; |w - w_true| %.4f; "
+                                      "cloud RMS %.2f mm, rigid %.2f deg %.2f mm",
+                 n, t_fit, t_sfs, t_rt, weight_error(set), rms / n, rdeg / n, rmm / n);
         char name[64];
         snprintf(name, sizeof name, "retarget round %d", r + 1);
         row(name, rig_score_rig(truth, rig, nf), extra);

@@ -4,12 +4,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include <frig/retarget.h>
+#include <frig/frig.h>
 
 #include "cli.h"
 
 const char cmd_retarget_usage[] =
-    "usage: frig retarget -w WORKSPACE [--model FILE] [--iterations N]\n"
+    "usage: frig retarget -w WORKSPACE [--model FILE] [--iterations N] [--fixed-clouds]\n"
     "\n"
     "Personalize the workspace's rig beyond the model's span from the photos' point clouds\n"
     "(WORKSPACE/clouds/, written by the sfs stage): per photo the current reconstruction is\n"
@@ -17,9 +17,11 @@ const char cmd_retarget_usage[] =
     "each photo's expression weights in turn; the rest of the head (neck, ears, eyes, teeth,\n"
     "gums, mouth) follows the face. Then the outer loop: every photo is fitted again on the new\n"
     "rig and the stage runs again, retarget.iterations rounds in all (default 3), stopping\n"
-    "early when a round moves the neutral by less than retarget.stop_mm on average. Until the\n"
-    "sfs stage recovers the clouds with the new rig, the clouds stay and one round runs\n"
-    "(retarget.fixed_cloud_rounds): more would fit the same clouds' noise again.\n"
+    "early when a round moves the neutral by less than retarget.stop_mm on average. Each later\n"
+    "round recovers the clouds with the new rig (the sfs stage, sfs.* parameters) and writes\n"
+    "them to WORKSPACE/clouds/ and the albedo to WORKSPACE/textures/albedo.png. With\n"
+    "--fixed-clouds the clouds stay as they are and at most retarget.fixed_cloud_rounds rounds\n"
+    "run (more would fit the same clouds' noise again).\n"
     "Reads WORKSPACE/rig/rig.frigrig (frig fit's model-space rig, or an earlier personalized\n"
     "one) and replaces it; updates WORKSPACE/report.json (each photo's weights and\n"
     "correspondence figures, each round's figures) and draws the rig before and after in\n"
@@ -28,10 +30,12 @@ const char cmd_retarget_usage[] =
     "  -w, --workspace DIR   the workspace folder\n"
     "  --model FILE          the model file (default: $FRIG_MODEL or the user data folder)\n"
     "  --iterations N        outer rounds (sets retarget.iterations and fixed_cloud_rounds)\n"
-    "Parameters: retarget.*, fit.* (frig help params).\n";
+    "  --fixed-clouds        keep WORKSPACE/clouds/ (do not run the sfs stage again)\n"
+    "Parameters: retarget.*, fit.*, sfs.* (frig help params).\n";
 
 int cmd_retarget(cli_env *env, int argc, char **argv) {
     const char *ws = NULL, *model_path = NULL;
+    int fixed_clouds = 0;
     for (int i = 0; i < argc; i++) {
         if ((!strcmp(argv[i], "-w") || !strcmp(argv[i], "--workspace")) && i + 1 < argc) ws = argv[++i];
         else if (!strcmp(argv[i], "--model") && i + 1 < argc) model_path = argv[++i];
@@ -41,7 +45,9 @@ int cmd_retarget(cli_env *env, int argc, char **argv) {
             if (*end || frig_ctx_set_param(env->ctx, FRIG_PARAM_RETARGET_ITERATIONS, v) ||
                 frig_ctx_set_param(env->ctx, FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS, v))
                 return cli_usage_error("retarget", "--iterations wants a whole number from 1 to 20, not '%s'", argv[i]);
-        } else
+        } else if (!strcmp(argv[i], "--fixed-clouds"))
+            fixed_clouds = 1;
+        else
             return cli_usage_error("retarget", "unexpected argument '%s' (see frig help retarget)", argv[i]);
     }
     if (!ws) return cli_usage_error("retarget", "no workspace given (-w DIR)");
@@ -49,6 +55,7 @@ int cmd_retarget(cli_env *env, int argc, char **argv) {
     frig_photoset *set = NULL;
     frig_rig *rig = NULL, *before = NULL;
     frig_clouds *clouds = NULL;
+    frig_image *albedo = NULL;
     char path[4096];
     snprintf(path, sizeof path, "%s/rig/rig.frigrig", ws);
     int rc = cli_load_model(env, "retarget", model_path, &model);
@@ -74,9 +81,27 @@ int cmd_retarget(cli_env *env, int argc, char **argv) {
         rc = cli_usage_error("retarget", "%s/clouds has no point cloud of any photo (run the sfs stage first)", ws);
         goto done;
     }
+    /* The outer loop recovers the clouds with each new rig by the sfs stage (public API:
+     * frig_retarget_recover_sfs calls frig_sfs), keeping the last albedo. */
     if (frig_rig_clone(env->ctx, rig, &before) ||
-        frig_retarget_refine(env->ctx, model, set, &clouds, rig, NULL, NULL) || frig_rig_save(env->ctx, rig, path) ||
-        frig_photoset_save(env->ctx, set, ws)) {
+        frig_retarget_refine(env->ctx, model, set, &clouds, rig, fixed_clouds ? NULL : frig_retarget_recover_sfs,
+                             &albedo) ||
+        frig_rig_save(env->ctx, rig, path)) {
+        rc = cli_fail(env, "retarget");
+        goto done;
+    }
+    if (albedo) { /* the clouds and albedo of the last recovery go with the rig they came from */
+        char dir[4096];
+        snprintf(dir, sizeof dir, "%s/textures", ws);
+        snprintf(path, sizeof path, "%s/textures/albedo.png", ws);
+        if ((rc = cli_make_dir(env, dir))) goto done;
+        if (frig_clouds_save(env->ctx, clouds, set, ws) || frig_image_save_png(env->ctx, albedo, path)) {
+            rc = cli_fail(env, "retarget");
+            goto done;
+        }
+        snprintf(path, sizeof path, "%s/rig/rig.frigrig", ws);
+    }
+    if (frig_photoset_save(env->ctx, set, ws)) {
         rc = cli_fail(env, "retarget");
         goto done;
     }
@@ -100,6 +125,7 @@ int cmd_retarget(cli_env *env, int argc, char **argv) {
     }
     cli_note(env, "wrote the personalized rig to %s (frig export -w %s -o OUT writes rig.glb and OBJ files)", path, ws);
 done:
+    frig_image_free(albedo);
     frig_clouds_free(clouds);
     frig_rig_free(before);
     frig_rig_free(rig);

@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # frig retarget end to end on synthetic photos: synth -> detect -> filter -> fit -> clouds from
-# the true depth (bench/truth_clouds, standing in for the sfs stage) -> retarget (2 outer
-# rounds) -> export, scored per vertex against the true rig (bench/score_shapes): the
-# personalized neutral is nearer the truth than the fit's model-space rig; the report has the
-# rounds; errors: no workspace, no rig, no clouds.
+# the true depth (bench/truth_clouds) -> retarget --fixed-clouds (2 outer rounds) -> export,
+# scored per vertex against the true rig (bench/score_shapes): the personalized neutral is
+# nearer the truth than the fit's model-space rig; the report has the rounds. Then the outer
+# loop with the sfs stage: fit -> sfs -> retarget (2 rounds, the clouds and the albedo
+# recovered with the new rig) -> export, textured with that albedo. Errors: no workspace, no
+# rig, no clouds.
 set -u
 . "$FRIG_SOURCE_DIR/tests/scripts/model_fixture.sh"
 fail=0
@@ -27,13 +29,14 @@ check '[ $? = 0 ]'
 "$F" --quiet detect "$tmp/synth/subject_00/photos" -w "$tmp/ws" && "$F" --quiet filter -w "$tmp/ws" &&
   "$F" --quiet fit -w "$tmp/ws" --model "$M" --no-overlays
 check '[ $? = 0 ]'
+cp -r "$tmp/ws" "$tmp/ws_sfs"
 "$F" --quiet retarget -w "$tmp/ws" --model "$M" 2>"$tmp/err"; check '[ $? = 2 ]'
 check 'grep -q "no point cloud" "$tmp/err"'
 "$F" --quiet export -w "$tmp/ws" -o "$tmp/fit_out" > /dev/null
 check '[ $? = 0 ]'
 "$B/truth_clouds" "$tmp/ws" > /dev/null
 check '[ $? = 0 ] && [ $(ls "$tmp/ws/clouds" | grep -c "\.ply$") -ge 5 ]'
-"$F" --threads 2 retarget -w "$tmp/ws" --model "$M" --iterations 2 2>"$tmp/log"
+"$F" --threads 2 retarget -w "$tmp/ws" --model "$M" --iterations 2 --fixed-clouds 2>"$tmp/log"
 check '[ $? = 0 ]'
 cat "$tmp/log"
 check 'grep -q "round 2" "$tmp/log"'
@@ -51,7 +54,34 @@ f_aligned=$(echo "$fit_score" | sed -n 's/.*(aligned \([0-9.]*\)).*/\1/p')
 r_aligned=$(echo "$rt_score" | head -1 | sed -n 's/.*(aligned \([0-9.]*\)).*/\1/p')
 # Measured: model-space 4.6 mm -> personalized 3.4 mm (aligned, face region); floor 0.85 of the fit's.
 check "$py -c 'import sys; sys.exit(0 if float(\"$r_aligned\") < 0.85 * float(\"$f_aligned\") else 1)'"
-# Deterministic: the same rig from one thread.
-cp -r "$tmp/ws" "$tmp/ws1"
-cp "$tmp/ws/report.json" "$tmp/ws1/report.json"
+
+# The outer loop with the sfs stage recovering the clouds each round.
+w="$tmp/ws_sfs"
+"$F" --quiet --threads 2 sfs -w "$w" --no-overlays
+check '[ $? = 0 ] && [ -s "$w/textures/albedo.png" ]'
+sum_before=$(cat "$w"/clouds/*.ply | md5sum)
+"$F" --threads 2 retarget -w "$w" --model "$M" --iterations 2 2>"$tmp/log_sfs"
+check '[ $? = 0 ]'
+cat "$tmp/log_sfs"
+check 'grep -q "round 2" "$tmp/log_sfs"'
+check '[ "$(cat "$w"/clouds/*.ply | md5sum)" != "$sum_before" ]'   # recovered with the new rig
+rounds=$($py -c 'import json,sys; r=json.load(open(sys.argv[1])); print(len(r["retarget"]["rounds"]), sum(1 for p in r["photos"] if "retarget" in p))' "$w/report.json")
+read nr np <<< "$rounds"
+check '[ "$nr" = 2 ] && [ "$np" -ge 3 ]'
+"$F" --quiet export -w "$w" -o "$tmp/out_sfs" > /dev/null
+check '[ $? = 0 ] && [ -s "$tmp/out_sfs/shapes/neutral.obj" ]'
+# The glTF's face texture is the albedo the last recovery wrote, byte for byte.
+$py - "$tmp/out_sfs/rig.glb" "$w/textures/albedo.png" <<'EOF'
+import json, struct, sys
+b = open(sys.argv[1], 'rb').read()
+n = struct.unpack('<I', b[12:16])[0]
+j = json.loads(b[20:20 + n])
+img = [i for i in j['images'] if i['name'] == 'frig_face'][0]
+v = j['bufferViews'][img['bufferView']]
+start = 20 + n + 8 + v.get('byteOffset', 0)
+sys.exit(0 if b[start:start + v['byteLength']] == open(sys.argv[2], 'rb').read() else 1)
+EOF
+check '[ $? = 0 ]'
+rt_sfs=$("$B/score_shapes" "$tmp/out_sfs/shapes" "$truth")
+echo "$rt_sfs"
 exit $fail

@@ -34,13 +34,22 @@ FRIG_API frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_
 /* Refit every fitted photo's camera, pose and expression on a rig (section 5.3: the
  * per-image reconstruction with the generated blendshapes instead of the model): the
  * progressive fit's per-photo step with the rig's neutral and shapes, identity fixed.
- * Photos whose refit is unusable get fit_failed, as in frig_fit. */
+ * Photos whose refit is unusable get fit_failed, as in frig_fit; sfs_failed photos are refitted
+ * too (the sfs stage judges them again) and keep their status. */
 FRIG_API frig_status frig_fit_rig(frig_ctx *ctx, const frig_model *model, const frig_rig *rig, frig_photoset *set);
 
 /* Recovering the clouds with the current rig (the sfs stage in the outer loop). *clouds may be
  * replaced (the old handle freed by the callee) or updated in place. */
 typedef frig_status (*frig_clouds_fn)(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
                                       frig_photoset *set, frig_clouds **clouds);
+
+/* A frig_clouds_fn that recovers the clouds with the current rig by the sfs stage: frig_sfs on
+ * the set (sfs.* parameters of ctx, no pictures), the new clouds replacing *clouds. user is
+ * NULL or a frig_image ** that receives the albedo of the last recovery (the image it held is
+ * freed; the caller frees the last). Photos sfs marks sfs_failed give no cloud that round.
+ * Usage: frig_retarget_refine(ctx, model, set, &clouds, rig, frig_retarget_recover_sfs, &albedo). */
+FRIG_API frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_model *model,
+                                               const frig_rig *rig, frig_photoset *set, frig_clouds **clouds);
 
 /* The outer loop (Algorithm 3): retarget.iterations rounds of [refit (frig_fit_rig), recover
  * the clouds (recover; NULL keeps the clouds as given, and then at most

@@ -51,7 +51,9 @@ frig_status frig_fit_rig(frig_ctx *ctx, const frig_model *model, const frig_rig 
     if (!photo) return fr_nomem(ctx, "the refit");
     for (size_t i = 0; i < set->count; i++) {
         const fr_photo *p = &set->photos[i];
-        if ((p->status == FRIG_PHOTO_OK || p->status == FRIG_PHOTO_FIT_FAILED) && p->fitted && fr_photo_subject(p))
+        /* sfs_failed photos too: the sfs stage judges them again with the new fit */
+        if ((p->status == FRIG_PHOTO_OK || p->status == FRIG_PHOTO_FIT_FAILED || p->status == FRIG_PHOTO_SFS_FAILED) &&
+            p->fitted && fr_photo_subject(p))
             photo[n++] = i;
     }
     if (n == 0) {
