@@ -7,7 +7,7 @@
  * stage with the new rig, retarget; else the clouds stay), with each
  * round's time, the expression-weight error against the truth and the correspondence figures.
  * Usage: retarget_eval MODEL WORKSPACE [--rounds N] [--threads T] [--set NAME=VALUE]...
- *                      [--sfs] [--save RIG] [--quiet] */
+ *                      [--sfs] [--where] [--cloud-error] [--save RIG] [--quiet] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,6 +18,7 @@
 #include "core/context.h"
 #include "frig/frig.h"
 #include "mesh/laplacian_deform.h"
+#include "mesh/point_align.h"
 #include "mesh/topology.h"
 #include "retarget/collisions.h"
 #include "retarget/retarget.h"
@@ -217,6 +218,70 @@ static void cloud_error_report(frig_ctx *ctx, const frig_photoset *set, const fr
     fr_rt_mesh_free(&m);
 }
 
+/* --where: where a neutral's error is, against the truth over the face: the similarity that
+ * aligns it (its scale and shift: the raw frame's share), then of the aligned error the parts
+ * along the true normal and along the surface, the smooth part (the error field averaged over
+ * 30 rounds of mesh neighbours, ~ a few cm) and the rest, and the mean by height band. */
+static void where_report(frig_ctx *ctx, const char *name, const frig_rig *truth, const float *neutral, int nf) {
+    const float *tn = frig_rig_neutral(truth);
+    double R[9], tt[3], sc;
+    if (!fr_point_align(tn, neutral, nf, 1, R, tt, &sc)) return;
+    int nv = frig_rig_vertex_count(truth), ntri = truth->topo.triangle_count;
+    const int32_t *tri = truth->topo.triangles;
+    float *nrm = malloc(sizeof(float) * 3 * nv);
+    double *e = malloc(sizeof(double) * 3 * nf), *lo = malloc(sizeof(double) * 3 * nf), *acc = malloc(sizeof(double) * 4 * nf);
+    fr_vertex_normals(ctx, nv, tn, ntri, tri, nrm);
+    double dn = 0, dt = 0, all = 0, rot = 0;
+    for (int v = 0; v < nf; v++) {
+        double dot = 0;
+        for (int k = 0; k < 3; k++) {
+            double x = tt[k];
+            for (int j = 0; j < 3; j++) x += sc * R[3 * k + j] * neutral[3 * v + j];
+            e[3 * v + k] = lo[3 * v + k] = x - tn[3 * v + k];
+            dot += e[3 * v + k] * nrm[3 * v + k];
+        }
+        double m = sqrt(e[3 * v] * e[3 * v] + e[3 * v + 1] * e[3 * v + 1] + e[3 * v + 2] * e[3 * v + 2]);
+        all += m, dn += fabs(dot), dt += sqrt(fmax(m * m - dot * dot, 0));
+    }
+    rot = acos(fmax(-1, fmin(1, (R[0] + R[4] + R[8] - 1) / 2))) * 180 / M_PI;
+    for (int it = 0; it < 30; it++) {
+        memset(acc, 0, sizeof(double) * 4 * nf);
+        for (int f = 0; f < ntri; f++) {
+            const int32_t *q = tri + 3 * f;
+            if (q[0] >= nf || q[1] >= nf || q[2] >= nf) continue;
+            for (int a = 0; a < 3; a++)
+                for (int b = 0; b < 3; b++) {
+                    if (a == b) continue;
+                    for (int k = 0; k < 3; k++) acc[4 * q[a] + k] += lo[3 * q[b] + k];
+                    acc[4 * q[a] + 3] += 1;
+                }
+        }
+        for (int v = 0; v < nf; v++)
+            if (acc[4 * v + 3] > 0)
+                for (int k = 0; k < 3; k++) lo[3 * v + k] = 0.5 * lo[3 * v + k] + 0.5 * acc[4 * v + k] / acc[4 * v + 3];
+    }
+    double low = 0, high = 0, band[4] = {0, 0, 0, 0}, ymin = 1e9, ymax = -1e9;
+    int nb[4] = {0, 0, 0, 0};
+    for (int v = 0; v < nf; v++) ymin = fmin(ymin, tn[3 * v + 1]), ymax = fmax(ymax, tn[3 * v + 1]);
+    for (int v = 0; v < nf; v++) {
+        double l = 0, h = 0, m = 0;
+        for (int k = 0; k < 3; k++) {
+            l += lo[3 * v + k] * lo[3 * v + k];
+            h += (e[3 * v + k] - lo[3 * v + k]) * (e[3 * v + k] - lo[3 * v + k]);
+            m += e[3 * v + k] * e[3 * v + k];
+        }
+        low += sqrt(l), high += sqrt(h);
+        int b = (int)(4 * (tn[3 * v + 1] - ymin) / (ymax - ymin + 1e-9));
+        band[b] += sqrt(m), nb[b]++;
+    }
+    printf("where %-22s scale %.4f shift %.2f mm turn %.2f deg | aligned %.3f: normal %.3f tangential %.3f | smooth %.3f "
+           "rest %.3f | by height (chin..top) %.2f %.2f %.2f %.2f\n",
+           name, sc, 1e3 * sqrt(tt[0] * tt[0] + tt[1] * tt[1] + tt[2] * tt[2]), rot, 1e3 * all / nf, 1e3 * dn / nf,
+           1e3 * dt / nf, 1e3 * low / nf, 1e3 * high / nf, 1e3 * band[0] / nb[0], 1e3 * band[1] / nb[1],
+           1e3 * band[2] / nb[2], 1e3 * band[3] / nb[3]);
+    free(nrm), free(e), free(lo), free(acc);
+}
+
 /* A copy of the set's fitted identity; returns its length. */
 static int copy_identity(const frig_photoset *set, double **out) {
     const double *id0;
@@ -394,7 +459,7 @@ int main(int argc, char **argv) {
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
-    int rounds = 3, threads = 0, quiet = 0, corr = 0, id_steps = 0, limit = 0, sfs = 0;
+    int rounds = 3, threads = 0, quiet = 0, corr = 0, id_steps = 0, limit = 0, sfs = 0, where = 0;
     const char *save = NULL, *sheet = NULL, *ws = argv[2];
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--rounds") && i + 1 < argc) rounds = atoi(argv[++i]);
@@ -403,6 +468,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--sheet") && i + 1 < argc) sheet = argv[++i];
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;
         else if (!strcmp(argv[i], "--sfs")) sfs = 1;
+        else if (!strcmp(argv[i], "--where")) where = 1;
         else if (!strcmp(argv[i], "--correspondence")) corr = 1;
         else if (!strcmp(argv[i], "--oracle")) corr = 2;
         else if (!strcmp(argv[i], "--cloud-error")) corr = 3;
@@ -452,6 +518,7 @@ int main(int argc, char **argv) {
     char extra[256];
     snprintf(extra, sizeof extra, "weights |w - w_true| %.4f", weight_error(set));
     row("fit (model-space rig)", rig_score_rig(truth, rig, nf), extra);
+    if (where) where_report(ctx, "fit", truth, frig_rig_neutral(rig), nf);
     frig_rig *fit_rig = NULL;
     frig_rig_clone(ctx, rig, &fit_rig);
     int nid = frig_model_identity_count(model);
@@ -459,6 +526,7 @@ int main(int argc, char **argv) {
     snprintf(path, sizeof path, "%.*ssubject.json", base, photo);
     if (read_identity(path, wtrue, nid) && !frig_rig_from_model(ctx, model, wtrue, &tmp)) {
         row("best in-span (true identity)", rig_score_rig(truth, tmp, nf), NULL);
+        if (where) where_report(ctx, "best in-span", truth, frig_rig_neutral(tmp), nf);
         frig_rig_free(tmp);
     } else {
         free(wtrue);
@@ -504,6 +572,7 @@ int main(int argc, char **argv) {
         char name[64];
         snprintf(name, sizeof name, "retarget round %d", r + 1);
         row(name, rig_score_rig(truth, rig, nf), extra);
+        if (where) where_report(ctx, name + 9, truth, frig_rig_neutral(rig), nf);
     }
     if (rounds > 0) {
         frig_rig *tpl = NULL;

@@ -4,7 +4,10 @@
  * rigidly and matched to the current reconstruction N + D w_i, the photo's expression weights
  * are solved (bounded, in [0, 1]), then one Gauss-Newton step moves the shared identity, N <-
  * N + U delta (U the model's identity modes, over the whole head, so everything the modes move
- * follows), with the model's prior N(0, I) on the identity weights.
+ * follows), with the model's prior N(0, I) on the identity weights, weighed retarget.identity_prior
+ * times: the matches are weighed as if each were an independent 1 mm measurement, but a cloud's
+ * errors (sfs's, the pose's) are smooth and shared by its neighbouring points, so thousands of
+ * matches per photo outweigh the prior far more than they should (measured: docs/retarget.md).
  * Why: a point-to-surface deformation (Algorithm 7) can only move the surface along its normal;
  * where the fit from landmarks put the nose or the eyes a few millimetres off, the cloud cannot
  * say so, but the model's identity modes tie those positions to the surface's shape. Measured:
@@ -225,8 +228,8 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
         }
         symmetrize(S, n_id); /* (rounding) */
         for (int a = 0; a < n_id; a++) {
-            S[(size_t)a * n_id + a] += 1.0;
-            g[a] -= identity[a];
+            S[(size_t)a * n_id + a] += s->identity_prior;
+            g[a] -= s->identity_prior * identity[a];
         }
         st = fr_solve_spd(ctx, n_id, 1, S, n_id, g, n_id);
         if (st) {
