@@ -26,9 +26,11 @@ const char cmd_run_usage[] =
     "usage: frig run PHOTO|FOLDER|VIDEO... -o OUT|NAME.glb [--model FILE] [--cascades DIR]\n"
     "                [--landmark-model FILE] [--face-models DIR] [--no-report]\n"
     "\n"
-    "The whole pipeline: frames from videos, detect, identity, filter, fit, export, and a report page\n"
-    "(docs/run.md). Writes OUT/rig.glb, OUT/shapes/*.obj and OUT/report.html (open it first),\n"
-    "OUT/report.json (every photo's fate) and the workspace the stage commands read (frig\n"
+    "The whole pipeline: frames from videos, detect, identity, filter, fit, sfs, retarget (with the\n"
+    "outer loop: refit, sfs, retarget, retarget.iterations rounds), export, and a report page\n"
+    "(docs/run.md). Writes OUT/rig.glb (the personalized rig, textured with OUT/textures/albedo.png),\n"
+    "OUT/shapes/*.obj, OUT/clouds/*.ply, OUT/report.html (open it first), OUT/report.json\n"
+    "(every photo's fate) and the workspace the stage commands read (frig\n"
     "export -w OUT ...). With -o NAME.glb the rig is NAME.glb and NAME_shapes/, the rest\n"
     "NAME_run/. A folder stands for its photos (or, with none, its videos: .mp4 .mov .mkv .webm,\n"
     "each sampled to run.video_frames evenly spread frames with ffmpeg). Inputs are only read.\n"
@@ -42,7 +44,8 @@ const char cmd_run_usage[] =
     "  --model FILE         the face model (default: $FRIG_MODEL or the user data folder)\n"
     "  --cascades DIR, --landmark-model FILE, --face-models DIR   detector data (frig help detect)\n"
     "  --no-report          skip report.html\n"
-    "Parameters: run.*, detect.*, identity.*, filter.*, fit.*, export.* (frig help params).\n";
+    "Parameters: run.*, detect.*, identity.*, filter.*, fit.*, sfs.*, retarget.*, export.* (frig help\n"
+    "params).\n";
 
 static run_ctx *signalled;
 
@@ -352,8 +355,9 @@ static int layout(run_ctx *r, const char *given) {
 }
 
 static void clean_temps(run_ctx *r) {
-    static const char *const dirs[] = {"", "rig", "overlays/detect", "overlays/fit", "report", "report/thumbs", "textures",
-                                       "clouds", "stages/detect/partial"};
+    static const char *const dirs[] = {"", "rig", "overlays/detect", "overlays/fit", "overlays/sfs", "overlays/retarget",
+                                       "report", "report/thumbs", "textures", "clouds", "stages/sfs/clouds",
+                                       "stages/detect/partial"};
     char path[4200];
     for (size_t i = 0; i < sizeof dirs / sizeof dirs[0]; i++) run_remove_temps(run_path(r, dirs[i], path, sizeof path));
     for (int i = 0; i < run_stage_count; i++) {
