@@ -11,6 +11,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <math.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -265,6 +266,8 @@ static int up_to_date(run_ctx *r, int i, const char *key) {
         copy_string(rec, "digest", res->digest, sizeof res->digest);
         copy_string(rec, "summary", res->summary, sizeof res->summary);
         res->seconds = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(rec, "seconds"));
+        res->cpu_seconds = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(rec, "cpu_seconds"));
+        if (!isfinite(res->cpu_seconds)) res->cpu_seconds = 0; /* a record from before it was kept */
         res->peak_rss_mb = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(rec, "peak_rss_mb"));
     }
     cJSON_Delete(rec);
@@ -286,6 +289,7 @@ static int write_record(run_ctx *r, int i, cJSON *opts) {
     cJSON_AddStringToObject(rec, "digest", res->digest);
     cJSON_AddStringToObject(rec, "summary", res->summary);
     cJSON_AddNumberToObject(rec, "seconds", res->seconds);
+    cJSON_AddNumberToObject(rec, "cpu_seconds", res->cpu_seconds);
     cJSON_AddNumberToObject(rec, "peak_rss_mb", res->peak_rss_mb);
     cJSON_AddNumberToObject(rec, "threads", frig_ctx_threads(r->env->ctx));
     cJSON_AddItemReferenceToObject(rec, "options", opts);
@@ -407,10 +411,11 @@ static int run_stage_at(run_ctx *r, int i, const char *prev_digest, const char *
     }
     if (!r->env->quiet) run_progress_stage(r, "%s", st->what);
     run_peak_reset();
-    double t = run_now();
+    double t = run_now(), cpu = run_cpu_now();
     res->summary[0] = 0;
     rc = st->run(r);
     res->seconds = run_now() - t;
+    res->cpu_seconds = run_cpu_now() - cpu;
     res->peak_rss_mb = run_peak_mb();
     run_progress_done(r);
     if (rc == CLI_OK || rc == RUN_STOP) {
@@ -418,8 +423,8 @@ static int run_stage_at(run_ctx *r, int i, const char *prev_digest, const char *
         if (wr) rc = wr;
         res->done = res->ran = 1;
         if (!r->env->quiet)
-            fprintf(stderr, "frig run: [%d/%d] %-8s %s (%.1f s, %.0f MB)\n", i + 1, run_stage_count, st->name, res->summary,
-                    res->seconds, res->peak_rss_mb);
+            fprintf(stderr, "frig run: [%d/%d] %-8s %s (%.1f s, %.1f s CPU, %.0f MB)\n", i + 1, run_stage_count, st->name,
+                    res->summary, res->seconds, res->cpu_seconds, res->peak_rss_mb);
     }
     cJSON_Delete(opts);
     return rc;

@@ -327,7 +327,10 @@ static void section_sfs_errors(page *p, const frig_photoset *set) {
         double e, rms;
         size_t px, in;
         if (frig_photoset_sfs_done(set, i) && frig_photoset_sfs_stats(set, i, &px, &in, &e) == FRIG_OK && isfinite(e)) {
-            if (frig_photoset_status(set, i) == FRIG_PHOTO_SFS_FAILED) failed[nx++] = 100 * e;
+            /* a photo that failed before its shading was solved has no error to show */
+            if (frig_photoset_status(set, i) == FRIG_PHOTO_SFS_FAILED) {
+                if (e > 0) failed[nx++] = 100 * e;
+            }
             else if (frig_photoset_status(set, i) == FRIG_PHOTO_OK) kept[nk++] = 100 * e;
         }
         if (frig_photoset_retargeted(set, i) && frig_photoset_retarget_figures(set, i, NULL, &rms, NULL, NULL) == FRIG_OK &&
@@ -375,7 +378,9 @@ static void section_shape(page *p, run_ctx *r, const frig_photoset *set) {
     char rel[4200];
     for (size_t i = 0; order && err && i < n; i++) {
         double e;
-        if (!sfs_overlay_for(r, set, i, rel, sizeof rel) || frig_photoset_sfs_stats(set, i, NULL, NULL, &e)) continue;
+        if (frig_photoset_status(set, i) != FRIG_PHOTO_OK || !sfs_overlay_for(r, set, i, rel, sizeof rel) ||
+            frig_photoset_sfs_stats(set, i, NULL, NULL, &e))
+            continue;
         size_t k = shown++;
         for (; k > 0 && err[k - 1] > e; k--) err[k] = err[k - 1], order[k] = order[k - 1]; /* by error, stable */
         err[k] = e, order[k] = i;
@@ -406,7 +411,7 @@ static void section_shape(page *p, run_ctx *r, const frig_photoset *set) {
         cli_make_dir(r->env, run_path(r, "report/sfs", dir, sizeof dir));
         size_t show = shown < 12 ? shown : 12;
         put(p, "<h3>Shape from shading, photo by photo <span class=\"count\">%zu</span></h3>\n<p class=\"muted\">The "
-               "%zu with the lowest shading error of %zu; every photo's is linked from its card below. Each picture: the "
+               "%zu with the lowest shading error of the %zu with a cloud; every photo's is linked from its card below. Each picture: the "
                "photo's face, its skin, the shading synthesized from the recovered depth, the error, and the region kept "
                "in the cloud.</p>\n<div class=\"sfsgrid\">", shown, show, shown);
         for (size_t k = 0; k < show; k++) {
@@ -553,28 +558,30 @@ static void put_top_expressions(page *p, const frig_photoset *set, size_t i) {
 
 static void section_stages(page *p, run_ctx *r, const frig_photoset *set) {
     put(p, "<h2 id=\"stages\">Stages: time and memory</h2>\n<table class=\"stages\"><tr><th>stage</th><th>what</th><th>"
-           "this run</th><th class=\"num\">seconds</th><th class=\"num\">peak memory</th><th>result</th></tr>\n");
-    double total = 0, peak = 0;
+           "this run</th><th class=\"num\">seconds</th><th class=\"num\">CPU seconds</th><th class=\"num\">peak memory</th>"
+           "<th>result</th></tr>\n");
+    double total = 0, cpu = 0, peak = 0;
     for (int i = 0; i < run_stage_count; i++) {
         const run_result *res = &r->results[i];
         if (!res->done && i != r->stage) continue;
         int current = i == r->stage && !res->done; /* the report itself */
-        if (!current) total += res->seconds, peak = fmax(peak, res->peak_rss_mb);
+        if (!current) total += res->seconds, cpu += res->cpu_seconds, peak = fmax(peak, res->peak_rss_mb);
         put(p, "<tr><td>%s</td><td>", run_stages[i].name);
         put_text(p, run_stages[i].what);
         if (current) {
-            put(p, "</td><td>writing this page</td><td class=\"num\"></td><td class=\"num\"></td><td></td></tr>\n");
+            put(p, "</td><td>writing this page</td><td class=\"num\"></td><td class=\"num\"></td><td class=\"num\"></td><td></td>"
+                   "</tr>\n");
             continue;
         }
-        put(p, "</td><td>%s</td><td class=\"num\">%.1f</td><td class=\"num\">%.0f MB</td><td>", res->ran ? "ran" : "kept",
-            res->seconds, res->peak_rss_mb);
+        put(p, "</td><td>%s</td><td class=\"num\">%.1f</td><td class=\"num\">%.1f</td><td class=\"num\">%.0f MB</td><td>",
+            res->ran ? "ran" : "kept", res->seconds, res->cpu_seconds, res->peak_rss_mb);
         put_text(p, res->summary);
         put(p, "</td></tr>\n");
     }
     size_t n = set ? frig_photoset_count(set) : 0;
     put(p, "<tr class=\"total\"><td>all</td><td>%zu photos, %d thread%s</td><td></td><td class=\"num\">%.1f</td>"
-           "<td class=\"num\">%.0f MB</td><td>",
-        n, frig_ctx_threads(r->env->ctx), frig_ctx_threads(r->env->ctx) == 1 ? "" : "s", total, peak);
+           "<td class=\"num\">%.1f</td><td class=\"num\">%.0f MB</td><td>",
+        n, frig_ctx_threads(r->env->ctx), frig_ctx_threads(r->env->ctx) == 1 ? "" : "s", total, cpu, peak);
     int sfs = 0, retarget = 0;
     for (int i = 0; i < run_stage_count; i++) {
         sfs |= r->results[i].done && strcmp(run_stages[i].name, "sfs") == 0;
@@ -586,7 +593,8 @@ static void section_stages(page *p, run_ctx *r, const frig_photoset *set) {
             PAPER_SECONDS, total * 100.0 / (double)n, PAPER_SECONDS / (total * 100.0 / (double)n),
             sfs && retarget ? ", sfs and retargeting included" : ", without sfs and retargeting, which this run did not reach");
     put(p, "</td></tr></table>\n<p class=\"muted\">Times are the last run of each stage (\"kept\": an earlier run whose "
-           "options and inputs still hold). Peak memory is the process's resident peak during the stage.</p>\n");
+           "options and inputs still hold). Peak memory is the process's resident peak during the stage. CPU seconds are user + system time of all "
+           "threads: on a machine shared with other work the wall time grows, the CPU time much less.</p>\n");
 }
 
 static void section_photos(page *p, run_ctx *r, const frig_photoset *set) {
