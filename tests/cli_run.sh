@@ -68,6 +68,14 @@ cp "$tmp/clean/rig.glb" "$tmp/changed.glb"
 run "$tmp/clean" > /dev/null 2>&1; check '[ $? = 0 ]'
 check 'cmp -s "$tmp/clean/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/clean/shapes" "$tmp/ref/shapes" && ! cmp -s "$tmp/changed.glb" "$tmp/ref/rig.glb"'
 check 'diff -rq "$tmp/clean/clouds" "$tmp/ref/clouds"'
+# A full disk (a file-size limit the glTF cannot fit in) while export runs again (its record
+# removed): an error sentence, exit 1; then resumed: export alone, the same bytes.
+rm "$tmp/clean/stages/export/stage.json"
+( ulimit -f 4000; trap "" XFSZ; exec "$F" --threads 2 "${O[@]}" run "$photos" --model "$M" --no-report -o "$tmp/clean" ) > /dev/null 2> "$tmp/full.err"
+check '[ $? = 1 ] && grep -q "File too large\|write failed" "$tmp/full.err"'
+run "$tmp/clean" > /dev/null 2> "$tmp/full2.err"; check '[ $? = 0 ]'
+check 'grep -q "retarget .*up to date" "$tmp/full2.err" && ! grep -q "export .*up to date" "$tmp/full2.err"'
+check 'cmp -s "$tmp/clean/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/clean/shapes" "$tmp/ref/shapes"'
 # Another sfs option: sfs and retarget run again (and export, the rig having changed), fit is kept.
 run "$tmp/clean" --set sfs.e_max=0.06 > /dev/null 2> "$tmp/sfs.err"; check '[ $? = 0 ]'
 check 'grep -q "fit .*up to date" "$tmp/sfs.err" && ! grep -q "sfs .*up to date" "$tmp/sfs.err" && ! grep -q "retarget .*up to date" "$tmp/sfs.err"'
@@ -84,23 +92,16 @@ check 'grep -q "^3 kills; rig.glb, shapes/ and clouds/ byte-identical to the cle
 check 'grep -q "retarget .*2 rounds (clouds recovered 1 times more)" "$tmp/kr/clean.log"'
 check '! cmp -s "$tmp/kr/clean/textures/albedo.png" "$tmp/kr/clean/stages/sfs/albedo.png"'   # the recovered albedo
 check '! diff -rq "$tmp/kr/clean/clouds" "$tmp/ref/clouds" > /dev/null'   # the clouds recovered in the loop
-check '[ -z "$(find "$tmp/kr/killed" -name ".*.??????")" ]'   # no temporary files left
+check '[ -z "$(find "$tmp/kr/killed" "$tmp/clean" -name ".*.??????")" ]'   # no temporary files left
 
-# Two runs in one folder at once: the second says so and leaves the first alone.
-run_bg "$tmp/busy"
+# Two runs in one folder at once: the second says so and leaves the first alone. With
+# -o NAME.glb: that file, NAME_shapes/ beside it, the run's folder NAME_run/.
+run_bg "$tmp/named/face.glb"
 pid=$!
 sleep 0.5
-run "$tmp/busy" > /dev/null 2> "$tmp/busy.err"; check '[ $? = 1 ] && grep -q "another frig run is working in $tmp/busy" "$tmp/busy.err"'
-wait $pid; check '[ $? = 0 ] && cmp -s "$tmp/busy/rig.glb" "$tmp/ref/rig.glb"'
-
-# A full disk (a file-size limit the glTF cannot fit in): an error sentence, exit 1; then resumed.
-( ulimit -f 4000; trap "" XFSZ; exec "$F" --threads 2 "${O[@]}" run "$photos" --model "$M" --no-report -o "$tmp/full" ) > /dev/null 2> "$tmp/full.err"
-check '[ $? = 1 ] && grep -q "File too large\|write failed" "$tmp/full.err"'
-run "$tmp/full" > /dev/null 2> "$tmp/full2.err"; check '[ $? = 0 ]'
-check 'grep -q "detect .*up to date" "$tmp/full2.err" && cmp -s "$tmp/full/rig.glb" "$tmp/ref/rig.glb"'
-
-# -o NAME.glb: that file, NAME_shapes/ beside it, the run's folder NAME_run/.
-run "$tmp/named/face.glb" > /dev/null 2>&1; check '[ $? = 0 ]'
+run "$tmp/named/face.glb" > /dev/null 2> "$tmp/busy.err"
+check '[ $? = 1 ] && grep -q "another frig run is working in $tmp/named/face_run" "$tmp/busy.err"'
+wait $pid; check '[ $? = 0 ]'
 check 'cmp -s "$tmp/named/face.glb" "$tmp/ref/rig.glb" && [ -f "$tmp/named/face_shapes/jawOpen.obj" ] && [ -s "$tmp/named/face_run/report.json" ]'
 
 # Too few usable photos: a sentence naming how many and why, exit 1.
