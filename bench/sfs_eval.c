@@ -7,10 +7,12 @@
  * truth's class maps, the share of bad pixels (cast shadow, highlight, occluder, hair) that the
  * skin mask and region selection remove and of good skin they keep; the neutral of the rig with
  * the shared displacement against the true neutral; and the stage's time.
+ * --stereo W adds the photos' own gradients to the shared shape (the multi-view term, gain W),
+ * --joint-pose N N steps of each photo's pose against the shared shape per round (docs/sfs.md).
  * --truth-pose replaces the fit's pose and camera by the truth's (--truth-weights the
  * expression weights too): where the error lives.
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
- *                 [--truth-weights] [--quiet] */
+ *                 [--truth-weights] [--quiet] [--stereo W] [--joint-pose N] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,6 +31,7 @@
 #include "sfs/sfs_run.h"
 #include "sfs_truth.h"
 #include "workspace/photoset.h"
+#include "mesh/point_align.h"
 
 static double now(void) {
     struct timespec ts;
@@ -62,6 +65,27 @@ static void aligned(frig_ctx *ctx, const fr_tri_tree *ix, const double *p, int n
     free(d);
 }
 
+
+/* b's error against a (n vertices) after the similarity alignment, split along a's vertex
+ * normals: the mean |normal part| and |tangential part| (features in the wrong place), mm. */
+static void split_error(const float *a, const float *an, const float *b, int n, double *normal, double *tangential) {
+    double R[9], t[3], scale, sn = 0, stg = 0;
+    *normal = *tangential = NAN;
+    if (n <= 0 || !fr_point_align(a, b, n, 1, R, t, &scale)) return;
+    for (int v = 0; v < n; v++) {
+        double e[3], en = 0, et = 0;
+        for (int i = 0; i < 3; i++) {
+            double x = t[i];
+            for (int j = 0; j < 3; j++) x += scale * R[3 * i + j] * b[3 * v + j];
+            e[i] = x - a[3 * v + i];
+            en += e[i] * an[3 * v + i];
+        }
+        for (int i = 0; i < 3; i++) et += (e[i] - en * an[3 * v + i]) * (e[i] - en * an[3 * v + i]);
+        sn += fabs(en), stg += sqrt(et);
+    }
+    *normal = 1e3 * sn / n, *tangential = 1e3 * stg / n;
+}
+
 static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int weights) {
     for (size_t i = 0; i < set->count; i++) {
         fr_photo *p = &set->photos[i];
@@ -83,11 +107,12 @@ static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int we
 int main(int argc, char **argv) {
     if (argc < 3) {
         fprintf(stderr, "usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose] "
-                        "[--truth-weights] [--quiet]\n");
+                        "[--truth-weights] [--quiet] [--stereo W] [--joint-pose N]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
-    int truth_pose = 0, truth_weights = 0, quiet = 0;
+    int truth_pose = 0, truth_weights = 0, quiet = 0, pose_steps = 0;
+    double w_stereo = 0;
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
             if (bench_set_param(ctx, argv[++i])) return 2;
@@ -95,6 +120,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--truth-pose")) truth_pose = 1;
         else if (!strcmp(argv[i], "--truth-weights")) truth_pose = truth_weights = 1;
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;
+        else if (!strcmp(argv[i], "--stereo") && i + 1 < argc) w_stereo = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--joint-pose") && i + 1 < argc) pose_steps = atoi(argv[++i]);
         else {
             fprintf(stderr, "unknown argument %s\n", argv[i]);
             return 2;
@@ -111,6 +138,7 @@ int main(int argc, char **argv) {
     if (truth_pose) set_truth_fits(truth_rig, set, truth_weights);
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
+    st.w_stereo = w_stereo, st.pose_steps = pose_steps;
     double t0 = now();
     fr_sfs_run run;
     if (fr_sfs_run_all(ctx, rig, set, &st, &run)) goto fail;
@@ -130,6 +158,14 @@ int main(int argc, char **argv) {
         }
         printf("neutral (narrow face, aligned): rig %.3f mm, with the shared displacement %.3f mm (displacement RMS %.3f mm)\n",
                1e3 * before, 1e3 * fr_aligned_mean_distance(frig_rig_neutral(truth_rig), a, nf), 1e3 * sqrt(rms / nf));
+        float *tn = malloc(sizeof(float) * 3 * (size_t)nv);
+        fr_mesh_vertex_normals(frig_rig_neutral(truth_rig), nv, run.mesh.tris, run.mesh.nt, tn);
+        double n0, t0s, n1, t1s;
+        split_error(frig_rig_neutral(truth_rig), tn, frig_rig_neutral(rig), nf, &n0, &t0s);
+        split_error(frig_rig_neutral(truth_rig), tn, a, nf, &n1, &t1s);
+        printf("neutral error along the true normals / tangential (mean |part|): rig %.3f / %.3f mm, with the shared "
+               "displacement %.3f / %.3f mm\n", n0, t0s, n1, t1s);
+        free(tn);
         free(a), free(nr);
     }
     fr_sfs_mesh tm;
@@ -144,7 +180,7 @@ int main(int argc, char **argv) {
                "reference", "fit (same pixels)");
     double *mc = malloc(sizeof(double) * (size_t)(run.n + 1)), *mr = malloc(sizeof(double) * (size_t)(run.n + 1));
     double *mf = malloc(sizeof(double) * (size_t)(run.n + 1)), *rb = malloc(sizeof(double) * (size_t)(run.n + 1));
-    double *ra = malloc(sizeof(double) * (size_t)(run.n + 1));
+    double *ra = malloc(sizeof(double) * (size_t)(run.n + 1)), *rj = malloc(sizeof(double) * (size_t)(run.n + 1));
     long bad = 0, good = 0, bad_skin = 0, bad_kept = 0, good_skin = 0, good_kept = 0;
     int rows = 0;
     for (int k = 0; k < run.n; k++) {
@@ -186,7 +222,7 @@ int main(int argc, char **argv) {
         double *pc = malloc(sizeof(double) * 3 * npx), *pr = malloc(sizeof(double) * 3 * npx);
         double *pf = malloc(sizeof(double) * 3 * npx);
         int nc = points(v, v->z, sel, R2, t2, pc), nr = points(v, v->z_ref, sel, v->R, v->t, pr);
-        int nf = points(v, v->z_fit, sel, v->R, v->t, pf);
+        int nf = points(v, v->z_fit, sel, v->R_fit, v->t_fit, pf);
         fr_sfs_mesh_eval(&tm, tr.weights, txyz);
         fr_tri_tree *ix = NULL;
         fr_tri_tree_build(ctx, txyz, ftris, nft, &ix);
@@ -195,6 +231,7 @@ int main(int argc, char **argv) {
         double yaw, pitch, roll;
         fr_rotation_to_euler(tr.R, &yaw, &pitch, &roll);
         rb[rows] = fr_rotation_angle_deg(p->fit_rotation, tr.R), ra[rows] = fr_rotation_angle_deg(R2, tr.R);
+        rj[rows] = fr_rotation_angle_deg(v->R, tr.R);
         if (!quiet)
             printf("%-14s %6.1f %6.2f %6.2f %5d | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f\n", base,
                    yaw * 57.29578, rb[rows], ra[rows], nc, c[0], c[1], c[2], r[0], r[1], r[2], f[0], f[1], f[2]);
@@ -214,13 +251,16 @@ int main(int argc, char **argv) {
     printf("%d photos scored; per-photo mean error, mean (median) over photos: cloud %.3f (%.3f) mm, reference %.3f (%.3f), "
            "fit %.3f (%.3f); cloud / fit %.3f\n",
            rows, a[0], a[1], b[0], b[1], d[0], d[1], d[0] > 0 ? a[0] / d[0] : NAN);
-    printf("rotation error: fit mean %.2f (median %.2f) deg, refined mean %.2f (median %.2f) deg\n", e[0], e[1], g[0], g[1]);
+    double h[3];
+    fr_error_stats(rj, rows, &h[0], &h[1], &h[2]);
+    printf("rotation error: fit mean %.2f (median %.2f) deg, the shared solve's %.2f (%.2f), refined by ICP %.2f (%.2f) deg\n",
+           e[0], e[1], h[0], h[1], g[0], g[1]);
     if (bad + good)
         printf("region selection: bad pixels (shadow, highlight, occluder, hair) removed %.1f%% by the skin mask, %.1f%% "
                "with eq. 5.15 (of %ld); good skin kept %.1f%% by the skin mask, %.1f%% with eq. 5.15 (of %ld)\n",
                100.0 * bad_skin / (bad ? bad : 1), 100.0 * bad_kept / (bad ? bad : 1), bad,
                100.0 * good_skin / (good ? good : 1), 100.0 * good_kept / (good ? good : 1), good);
-    free(mc), free(mr), free(mf), free(rb), free(ra), free(txyz), free(ftris);
+    free(mc), free(mr), free(mf), free(rb), free(ra), free(rj), free(txyz), free(ftris);
     fr_sfs_mesh_free(&tm);
     fr_sfs_run_free(&run);
     frig_photoset_free(set), frig_rig_free(rig), frig_rig_free(truth_rig), frig_ctx_free(ctx);

@@ -230,6 +230,8 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
         if (!disp || !vdisp) s = fr_nomem(ctx, "the multi-view solve");
         fr_sfs_multiview_options mo;
         fr_sfs_multiview_options_default(&mo);
+        mo.w_stereo = st->w_stereo;
+        mo.pose_steps = st->pose_steps;
         mo.outer = st->rounds;
         if (!s) s = fr_sfs_multiview(ctx, &r->mesh, &r->uv, r->views, r->n, r->ok, &mo, &r->ps, disp);
         if (!s) s = fr_sfs_vertex_displacement(ctx, &r->mesh, disp, st->shape_size, vdisp);
