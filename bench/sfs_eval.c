@@ -8,11 +8,14 @@
  * skin mask and region selection remove and of good skin they keep; the neutral of the rig with
  * the shared displacement against the true neutral; and the stage's time.
  * --stereo W adds the photos' own gradients to the shared shape (the multi-view term, gain W),
- * --joint-pose N N steps of each photo's pose against the shared shape per round (docs/sfs.md).
+ * --joint-pose N N steps of each photo's pose against the shared shape per round, --joint-albedo
+ * the texels' albedo solved with the shared shape, --shape-iterations N and --shape-sigma S its
+ * Gauss-Newton iterations per round and residual scale (docs/sfs.md).
  * --truth-pose replaces the fit's pose and camera by the truth's (--truth-weights the
  * expression weights too): where the error lives.
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
- *                 [--truth-weights] [--quiet] [--stereo W] [--joint-pose N] */
+ *                 [--truth-weights] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo]
+ *                 [--shape-iterations N] [--shape-sigma S] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -107,12 +110,13 @@ static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int we
 int main(int argc, char **argv) {
     if (argc < 3) {
         fprintf(stderr, "usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose] "
-                        "[--truth-weights] [--quiet] [--stereo W] [--joint-pose N]\n");
+                        "[--truth-weights] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo] "
+                        "[--shape-iterations N] [--shape-sigma S]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
-    int truth_pose = 0, truth_weights = 0, quiet = 0, pose_steps = 0;
-    double w_stereo = 0;
+    int truth_pose = 0, truth_weights = 0, quiet = 0, pose_steps = 0, joint_albedo = 0, shape_iterations = 0;
+    double w_stereo = 0, shape_sigma = 0;
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
             if (bench_set_param(ctx, argv[++i])) return 2;
@@ -122,6 +126,9 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;
         else if (!strcmp(argv[i], "--stereo") && i + 1 < argc) w_stereo = atof(argv[++i]);
         else if (!strcmp(argv[i], "--joint-pose") && i + 1 < argc) pose_steps = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--joint-albedo")) joint_albedo = 1;
+        else if (!strcmp(argv[i], "--shape-iterations") && i + 1 < argc) shape_iterations = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--shape-sigma") && i + 1 < argc) shape_sigma = atof(argv[++i]);
         else {
             fprintf(stderr, "unknown argument %s\n", argv[i]);
             return 2;
@@ -138,7 +145,8 @@ int main(int argc, char **argv) {
     if (truth_pose) set_truth_fits(truth_rig, set, truth_weights);
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
-    st.w_stereo = w_stereo, st.pose_steps = pose_steps;
+    st.w_stereo = w_stereo, st.pose_steps = pose_steps, st.joint_albedo = joint_albedo;
+    st.shape_iterations = shape_iterations, st.shape_sigma = shape_sigma;
     double t0 = now();
     fr_sfs_run run;
     if (fr_sfs_run_all(ctx, rig, set, &st, &run)) goto fail;
@@ -181,6 +189,8 @@ int main(int argc, char **argv) {
     double *mc = malloc(sizeof(double) * (size_t)(run.n + 1)), *mr = malloc(sizeof(double) * (size_t)(run.n + 1));
     double *mf = malloc(sizeof(double) * (size_t)(run.n + 1)), *rb = malloc(sizeof(double) * (size_t)(run.n + 1));
     double *ra = malloc(sizeof(double) * (size_t)(run.n + 1)), *rj = malloc(sizeof(double) * (size_t)(run.n + 1));
+    double *qw = malloc(sizeof(double) * 3 * (size_t)(run.n + 1)), *Rtrue = malloc(sizeof(double) * 9 * (size_t)(run.n + 1));
+    double *Rfit = malloc(sizeof(double) * 9 * (size_t)(run.n + 1));
     long bad = 0, good = 0, bad_skin = 0, bad_kept = 0, good_skin = 0, good_kept = 0;
     int rows = 0;
     for (int k = 0; k < run.n; k++) {
@@ -232,6 +242,14 @@ int main(int argc, char **argv) {
         fr_rotation_to_euler(tr.R, &yaw, &pitch, &roll);
         rb[rows] = fr_rotation_angle_deg(p->fit_rotation, tr.R), ra[rows] = fr_rotation_angle_deg(R2, tr.R);
         rj[rows] = fr_rotation_angle_deg(v->R, tr.R);
+        {
+            double Rt[9], Q[9], w[3];
+            fr_mat3_transpose(tr.R, Rt);
+            fr_mat3_mul(Rt, p->fit_rotation, Q);
+            fr_rotation_to_axis_angle(Q, w);
+            memcpy(qw + 3 * rows, w, sizeof w), memcpy(Rtrue + 9 * rows, tr.R, sizeof tr.R);
+            memcpy(Rfit + 9 * rows, p->fit_rotation, sizeof tr.R);
+        }
         if (!quiet)
             printf("%-14s %6.1f %6.2f %6.2f %5d | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f\n", base,
                    yaw * 57.29578, rb[rows], ra[rows], nc, c[0], c[1], c[2], r[0], r[1], r[2], f[0], f[1], f[2]);
@@ -251,7 +269,19 @@ int main(int argc, char **argv) {
     printf("%d photos scored; per-photo mean error, mean (median) over photos: cloud %.3f (%.3f) mm, reference %.3f (%.3f), "
            "fit %.3f (%.3f); cloud / fit %.3f\n",
            rows, a[0], a[1], b[0], b[1], d[0], d[1], d[0] > 0 ? a[0] / d[0] : NAN);
-    double h[3];
+    double h[3], wm[3] = {0, 0, 0}, Qm[9], cm[3];
+    /* the fit's turn common to all photos (a head-frame rotation: a gauge for the shared solve) */
+    for (int k = 0; k < rows; k++)
+        for (int q = 0; q < 3; q++) wm[q] += qw[3 * k + q] / rows;
+    fr_rotation_from_axis_angle(wm, Qm);
+    for (int k = 0; k < rows; k++) {
+        double RQ[9];
+        fr_mat3_mul(Rtrue + 9 * k, Qm, RQ);
+        qw[k] = fr_rotation_angle_deg(Rfit + 9 * k, RQ);
+    }
+    fr_error_stats(qw, rows, &cm[0], &cm[1], &cm[2]);
+    printf("the fit's rotation error after its common turn (%.2f deg): mean %.2f (median %.2f) deg\n",
+           57.29578 * sqrt(wm[0] * wm[0] + wm[1] * wm[1] + wm[2] * wm[2]), cm[0], cm[1]);
     fr_error_stats(rj, rows, &h[0], &h[1], &h[2]);
     printf("rotation error: fit mean %.2f (median %.2f) deg, the shared solve's %.2f (%.2f), refined by ICP %.2f (%.2f) deg\n",
            e[0], e[1], h[0], h[1], g[0], g[1]);
@@ -260,7 +290,7 @@ int main(int argc, char **argv) {
                "with eq. 5.15 (of %ld); good skin kept %.1f%% by the skin mask, %.1f%% with eq. 5.15 (of %ld)\n",
                100.0 * bad_skin / (bad ? bad : 1), 100.0 * bad_kept / (bad ? bad : 1), bad,
                100.0 * good_skin / (good ? good : 1), 100.0 * good_kept / (good ? good : 1), good);
-    free(mc), free(mr), free(mf), free(rb), free(ra), free(rj), free(txyz), free(ftris);
+    free(mc), free(mr), free(mf), free(rb), free(ra), free(rj), free(qw), free(Rtrue), free(Rfit), free(txyz), free(ftris);
     fr_sfs_mesh_free(&tm);
     fr_sfs_run_free(&run);
     frig_photoset_free(set), frig_rig_free(rig), frig_rig_free(truth_rig), frig_ctx_free(ctx);

@@ -400,8 +400,8 @@ static void test_stage(void) {
 }
 
 /* Poses turned by 4 degrees (about y and x, zero mean: a turn common to all photos is free): the
- * shared solve's pose steps (with the multi-view term) against the shared surface and albedo
- * bring them back toward the truth. */
+ * shared solve's pose steps (with the multi-view term and the joint albedo, residual scale 0.1)
+ * against the shared surface and albedo bring them back toward the truth. */
 static void test_joint_pose(void) {
     const char *dir;
     scene sc;
@@ -418,7 +418,7 @@ static void test_joint_pose(void) {
     }
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
-    st.w_stereo = 1, st.pose_steps = 3;
+    st.w_stereo = 1, st.pose_steps = 3, st.joint_albedo = 1, st.shape_sigma = 0.1;
     fr_sfs_run run;
     CHECK(fr_sfs_run_all(ctx, sc.rig, sc.set, &st, &run) == FRIG_OK);
     double before = 0, after = 0;
@@ -433,9 +433,9 @@ static void test_joint_pose(void) {
     before /= n ? n : 1, after /= n ? n : 1;
     printf("joint pose: rotation error %.2f -> %.2f deg over %d photos\n", before, after, n);
     CHECK(n == 7);
-    /* measured 4.00 -> 3.87 deg: the pose steps move the poses toward the truth, slowly (the shared
-     * albedo, fitted again each round, holds what the misregistration made of it; docs/sfs.md) */
-    CHECK(after < 0.98 * before);
+    /* measured 4.00 -> 3.11 deg (3.87 with the albedo alternated and sigma 0.03): the pose steps
+     * move the poses toward the truth, slowly (docs/sfs.md) */
+    CHECK(after < 0.9 * before);
     fr_sfs_run_free(&run);
     free_scene(&sc);
 }

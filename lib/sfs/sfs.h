@@ -34,6 +34,9 @@ typedef struct fr_sfs_settings {
     /* the shared shape's experimental terms (no sfs.* parameter; bench/sfs_eval sets them; docs/sfs.md) */
     double w_stereo;      /* each photo's own image gradient along a texel's projected path (0: shading only) */
     int pose_steps;       /* per round, Levenberg-Marquardt steps of each photo's pose against the shared shape */
+    int joint_albedo;     /* 1: the texels' albedo solved with the shared displacement, not alternated with it */
+    int shape_iterations; /* Gauss-Newton iterations of the shared shape per round (0: its default, 4) */
+    double shape_sigma;   /* the shared shape's residual scale (0: its default, 0.03) */
 } fr_sfs_settings;
 
 void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s);

@@ -11,7 +11,14 @@
  * alternating with the albedo a(t) (closed form per texel) and each photo's lighting S_k (least
  * squares, eq. 5.3-5.5). One photo constrains a normal only along its light; photos under other
  * lights and head turns constrain the rest, and the shared displacement is integrable by
- * construction. The normal equations have the texel grid's small stencil (CHOLMOD, one analysis). */
+ * construction. The normal equations have the texel grid's small stencil (CHOLMOD, one analysis).
+ * Options, off by default (docs/sfs.md has the measurements): the multi-view term (the photo's own
+ * gradient along each texel's projected path, I(D) = I + dI/dD (D - D_sampled), so the photos
+ * must agree on where the surface is as well as on its shading); the joint albedo (each texel's
+ * albedo eliminated from the Gauss-Newton step by its Schur complement, which has the same
+ * stencil, and recovered by back-substitution, instead of alternated with D); and each photo's
+ * pose refined against the shared surface and albedo after each round (6 x 6 Levenberg-Marquardt,
+ * the views drawn again at their new poses). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -38,6 +45,7 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
     o->max_mm = 12.0;
     o->w_stereo = 0.0;
     o->pose_steps = 0;
+    o->joint_albedo = 0;
 }
 
 /* One photo's view of the texels: the rig's texel points and normals at its expression, and
@@ -64,6 +72,8 @@ typedef struct mv {
     double *D_s;        /* per texel: the displacement the photos were sampled at */
     double *D_try, *delta, *rhs, *H;  /* H: 6 per texel */
     float *albedo;      /* 3 per texel */
+    float *albedo_try;  /* 3 per texel */
+    double *Haa, *HaD, *ga; /* joint albedo: per texel 3, 9 (3 x the stencil's 3) and 3 */
 } mv;
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
@@ -217,7 +227,7 @@ static double obs_scale(const mv *s, const float *I) {
 }
 
 /* The data energy of texel t over all photos (robust), with displacement D. */
-static double texel_energy(const mv *s, const double *D, int t) {
+static double texel_energy(const mv *s, const double *D, const float *albedo, int t) {
     double e = 0, N[3], S[3];
     for (int k = 0; k < s->nviews; k++) {
         const photo_texels *p = &s->pt[k];
@@ -226,7 +236,7 @@ static double texel_energy(const mv *s, const double *D, int t) {
         double I[3];
         observed(s, p, D, t, I);
         double sc = obs_scale(s, p->I + 3 * (size_t)t);
-        for (int c = 0; c < 3; c++) e += p->w[t] * tukey_rho((s->albedo[3 * t + c] * S[c] - I[c]) / sc);
+        for (int c = 0; c < 3; c++) e += p->w[t] * tukey_rho((albedo[3 * t + c] * S[c] - I[c]) / sc);
     }
     return e;
 }
@@ -246,10 +256,10 @@ static int curv(const mv *s, int t, int dir, int nb[3]) {
     return 1;
 }
 
-static double energy(const mv *s, const double *D) {
+static double energy(const mv *s, const double *D, const float *albedo) {
     double e = 0;
     for (int t = 0; t < s->nt; t++) {
-        e += texel_energy(s, D, t) + s->o->w_anchor * D[t] * D[t];
+        e += texel_energy(s, D, albedo, t) + s->o->w_anchor * D[t] * D[t];
         int nb[3];
         for (int dir = 0; dir < 2; dir++)
             if (curv(s, t, dir, nb)) {
@@ -260,9 +270,13 @@ static double energy(const mv *s, const double *D) {
     return e;
 }
 
-/* Per texel: the 6 Hessian entries and 3 gradient entries of its data terms (all photos). */
+/* Per texel: the 6 Hessian entries and 3 gradient entries of its data terms (all photos); with
+ * the joint albedo, the texel's albedo eliminated (its Schur complement has the same stencil)
+ * and its terms kept for the back-substitution. */
 static void texel_normal_equations(const mv *s, int t, double H[6], double g[3]) {
     memset(H, 0, 6 * sizeof *H), memset(g, 0, 3 * sizeof *g);
+    double *Haa = s->Haa + 3 * (size_t)t, *HaD = s->HaD + 9 * (size_t)t, *ga = s->ga + 3 * (size_t)t;
+    memset(Haa, 0, 3 * sizeof *Haa), memset(HaD, 0, 9 * sizeof *HaD), memset(ga, 0, 3 * sizeof *ga);
     double N[3], dN[3][3], S[3], G[3][3];
     for (int k = 0; k < s->nviews; k++) {
         const photo_texels *p = &s->pt[k];
@@ -279,6 +293,33 @@ static void texel_normal_equations(const mv *s, int t, double H[6], double g[3])
             H[0] += w * j[0] * j[0], H[1] += w * j[1] * j[0], H[2] += w * j[2] * j[0];
             H[3] += w * j[1] * j[1], H[4] += w * j[2] * j[1], H[5] += w * j[2] * j[2];
             for (int q = 0; q < 3; q++) g[q] += w * j[q] * r;
+            double ja = S[c] / sc;
+            Haa[c] += w * ja * ja, ga[c] += w * ja * r;
+            for (int q = 0; q < 3; q++) HaD[3 * c + q] += w * ja * j[q];
+        }
+    }
+    if (!s->o->joint_albedo) return;
+    for (int c = 0; c < 3; c++) {
+        if (!(Haa[c] > 0)) continue;
+        Haa[c] *= 1 + 1e-6;
+        const double *h = HaD + 3 * c, inv = 1.0 / Haa[c];
+        H[0] -= h[0] * h[0] * inv, H[1] -= h[1] * h[0] * inv, H[2] -= h[2] * h[0] * inv;
+        H[3] -= h[1] * h[1] * inv, H[4] -= h[2] * h[1] * inv, H[5] -= h[2] * h[2] * inv;
+        for (int q = 0; q < 3; q++) g[q] -= h[q] * ga[c] * inv;
+    }
+}
+
+/* The albedo step that goes with the displacement step (back-substitution). */
+static void albedo_step(mv *s, const double *dD) {
+    for (int t = 0; t < s->nt; t++) {
+        int r = s->right[t], d = s->down[t];
+        for (int c = 0; c < 3; c++) {
+            double v = s->albedo[3 * t + c], Haa = s->Haa[3 * (size_t)t + c];
+            if (r >= 0 && d >= 0 && Haa > 0) {
+                const double *h = s->HaD + 9 * (size_t)t + 3 * c;
+                v -= (s->ga[3 * (size_t)t + c] + h[0] * dD[t] + h[1] * dD[r] + h[2] * dD[d]) / Haa;
+            }
+            s->albedo_try[3 * t + c] = (float)(v > 0 ? v : 0);
         }
     }
 }
@@ -495,7 +536,7 @@ static void update_pose(mv *s, int k, int steps) {
 static void mv_free(mv *s) {
     for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w), free(s->pt[k].dI);
     free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
-    free(s->H), free(s->albedo);
+    free(s->H), free(s->albedo), free(s->albedo_try), free(s->Haa), free(s->HaD), free(s->ga);
 }
 
 /* Every photo's pose against the shared surface, then each view drawn again at its pose (the
@@ -533,7 +574,10 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     s.right = malloc(sizeof(int) * nt), s.down = malloc(sizeof(int) * nt), s.sign = malloc(nt);
     s.D = calloc(nt, sizeof(double)), s.D_s = calloc(nt, sizeof(double)), s.D_try = malloc(sizeof(double) * nt), s.delta = malloc(sizeof(double) * 3 * nt);
     s.rhs = malloc(sizeof(double) * nt), s.H = malloc(sizeof(double) * 6 * nt), s.albedo = malloc(sizeof(float) * 3 * nt);
-    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs || !s.H || !s.albedo
+    s.albedo_try = malloc(sizeof(float) * 3 * nt), s.Haa = malloc(sizeof(double) * 3 * nt);
+    s.HaD = malloc(sizeof(double) * 9 * nt), s.ga = malloc(sizeof(double) * 3 * nt);
+    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs || !s.H || !s.albedo ||
+                         !s.albedo_try || !s.Haa || !s.HaD || !s.ga
                          ? fr_nomem(ctx, "the multi-view solve")
                          : FRIG_OK;
     for (int k = 0; k < nviews && !st; k++) {
@@ -576,7 +620,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
             if (use[k]) photo_sample(&s, k);
         memcpy(s.D_s, s.D, sizeof(double) * (size_t)s.nt);
         update_albedo(&s, threads);
-        double e = energy(&s, s.D), mu = -1;
+        double e = energy(&s, s.D, s.albedo), mu = -1;
         for (int it = 0; it < o->iterations && !st; it++) {
             for (int tries = 0; tries < 5 && !st; tries++) {
                 if (mu < 0) {
@@ -594,9 +638,11 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
                     double d = s.D[t] + s.delta[t];
                     s.D_try[t] = d > o->max_mm ? o->max_mm : d < -o->max_mm ? -o->max_mm : d;
                 }
-                double e2 = energy(&s, s.D_try);
+                if (o->joint_albedo) albedo_step(&s, s.delta);
+                double e2 = energy(&s, s.D_try, o->joint_albedo ? s.albedo_try : s.albedo);
                 if (e2 < e) {
                     memcpy(s.D, s.D_try, sizeof(double) * (size_t)s.nt);
+                    if (o->joint_albedo) memcpy(s.albedo, s.albedo_try, sizeof(float) * 3 * (size_t)s.nt);
                     e = e2;
                     mu *= 0.3;
                     break;

@@ -232,6 +232,9 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
         fr_sfs_multiview_options_default(&mo);
         mo.w_stereo = st->w_stereo;
         mo.pose_steps = st->pose_steps;
+        mo.joint_albedo = st->joint_albedo;
+        if (st->shape_iterations > 0) mo.iterations = st->shape_iterations;
+        if (st->shape_sigma > 0) mo.sigma = st->shape_sigma;
         mo.outer = st->rounds;
         if (!s) s = fr_sfs_multiview(ctx, &r->mesh, &r->uv, r->views, r->n, r->ok, &mo, &r->ps, disp);
         if (!s) s = fr_sfs_vertex_displacement(ctx, &r->mesh, disp, st->shape_size, vdisp);
