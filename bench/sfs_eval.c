@@ -10,12 +10,14 @@
  * --stereo W adds the photos' own gradients to the shared shape (the multi-view term, gain W),
  * --joint-pose N N steps of each photo's pose against the shared shape per round, --joint-albedo
  * the texels' albedo solved with the shared shape, --shape-iterations N and --shape-sigma S its
- * Gauss-Newton iterations per round and residual scale (docs/sfs.md).
+ * Gauss-Newton iterations per round and residual scale, --shape-oracle DEG the shared shape
+ * from the photos whose fit is within DEG of the truth's rotation only; --pose-noise DEG (with
+ * --truth-pose) turns each photo's true rotation by DEG about an axis of its own (docs/sfs.md).
  * --truth-pose replaces the fit's pose and camera by the truth's (--truth-weights the
  * expression weights too): where the error lives.
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
  *                 [--truth-weights] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo]
- *                 [--shape-iterations N] [--shape-sigma S] */
+ *                 [--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] [--pose-noise DEG] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -89,13 +91,21 @@ static void split_error(const float *a, const float *an, const float *b, int n, 
     *normal = 1e3 * sn / n, *tangential = 1e3 * stg / n;
 }
 
-static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int weights) {
+static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int weights, double noise_deg) {
     for (size_t i = 0; i < set->count; i++) {
         fr_photo *p = &set->photos[i];
         bench_truth tr;
         memset(&tr, 0, sizeof tr);
         if (p->fitted && bench_truth_load(p->path, truth_rig, &tr) && tr.has_face) {
             memcpy(p->fit_rotation, tr.R, sizeof tr.R);
+            if (noise_deg > 0) {
+                /* a turn of noise_deg about an axis drawn per photo (the same axes on every run) */
+                double a[3], l = 0, dR[9];
+                for (int q = 0; q < 3; q++) a[q] = sin(12.9898 * (double)(i + 1) * (q + 1) + 78.233 * q), l += a[q] * a[q];
+                for (int q = 0; q < 3; q++) a[q] *= noise_deg * M_PI / 180 / sqrt(l);
+                fr_rotation_from_axis_angle(a, dR);
+                fr_mat3_mul(dR, tr.R, p->fit_rotation);
+            }
             memcpy(p->fit_translation, tr.t, sizeof tr.t);
             p->fit_focal = tr.f;
             for (int e = 0; e < set->n_expressions && weights; e++) {
@@ -111,12 +121,13 @@ int main(int argc, char **argv) {
     if (argc < 3) {
         fprintf(stderr, "usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose] "
                         "[--truth-weights] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo] "
-                        "[--shape-iterations N] [--shape-sigma S]\n");
+                        "[--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] "
+                        "[--pose-noise DEG]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
     int truth_pose = 0, truth_weights = 0, quiet = 0, pose_steps = 0, joint_albedo = 0, shape_iterations = 0;
-    double w_stereo = 0, shape_sigma = 0;
+    double w_stereo = 0, shape_sigma = 0, oracle_deg = 0, pose_noise = 0;
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
             if (bench_set_param(ctx, argv[++i])) return 2;
@@ -127,6 +138,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--stereo") && i + 1 < argc) w_stereo = atof(argv[++i]);
         else if (!strcmp(argv[i], "--joint-pose") && i + 1 < argc) pose_steps = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--joint-albedo")) joint_albedo = 1;
+        else if (!strcmp(argv[i], "--shape-oracle") && i + 1 < argc) oracle_deg = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--pose-noise") && i + 1 < argc) pose_noise = atof(argv[++i]);
         else if (!strcmp(argv[i], "--shape-iterations") && i + 1 < argc) shape_iterations = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--shape-sigma") && i + 1 < argc) shape_sigma = atof(argv[++i]);
         else {
@@ -142,11 +155,26 @@ int main(int argc, char **argv) {
     snprintf(path, sizeof path, "%s/rig/rig.frigrig", argv[1]);
     if (frig_rig_load(ctx, path, &truth_rig)) goto fail;
     if (frig_photoset_load(ctx, argv[2], &set)) goto fail;
-    if (truth_pose) set_truth_fits(truth_rig, set, truth_weights);
+    if (truth_pose) set_truth_fits(truth_rig, set, truth_weights, pose_noise);
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
     st.w_stereo = w_stereo, st.pose_steps = pose_steps, st.joint_albedo = joint_albedo;
     st.shape_iterations = shape_iterations, st.shape_sigma = shape_sigma;
+    uint8_t *oracle = NULL;
+    if (oracle_deg > 0) {
+        /* the shared shape from the photos whose fit is within oracle_deg of the truth's rotation */
+        oracle = calloc(set->count + 1, 1);
+        int used = 0;
+        for (size_t i = 0; i < set->count; i++) {
+            bench_truth tr;
+            memset(&tr, 0, sizeof tr);
+            if (set->photos[i].fitted && bench_truth_load(set->photos[i].path, truth_rig, &tr) && tr.has_face)
+                used += oracle[i] = fr_rotation_angle_deg(set->photos[i].fit_rotation, tr.R) < oracle_deg;
+            bench_truth_free(&tr);
+        }
+        printf("the shared shape from %d photos (fit rotation error < %.1f deg)\n", used, oracle_deg);
+        st.shape_use = oracle;
+    }
     double t0 = now();
     fr_sfs_run run;
     if (fr_sfs_run_all(ctx, rig, set, &st, &run)) goto fail;
@@ -290,6 +318,7 @@ int main(int argc, char **argv) {
                "with eq. 5.15 (of %ld); good skin kept %.1f%% by the skin mask, %.1f%% with eq. 5.15 (of %ld)\n",
                100.0 * bad_skin / (bad ? bad : 1), 100.0 * bad_kept / (bad ? bad : 1), bad,
                100.0 * good_skin / (good ? good : 1), 100.0 * good_kept / (good ? good : 1), good);
+    free(oracle);
     free(mc), free(mr), free(mf), free(rb), free(ra), free(rj), free(qw), free(Rtrue), free(Rfit), free(txyz), free(ftris);
     fr_sfs_mesh_free(&tm);
     fr_sfs_run_free(&run);

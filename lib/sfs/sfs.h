@@ -37,6 +37,7 @@ typedef struct fr_sfs_settings {
     int joint_albedo;     /* 1: the texels' albedo solved with the shared displacement, not alternated with it */
     int shape_iterations; /* Gauss-Newton iterations of the shared shape per round (0: its default, 4) */
     double shape_sigma;   /* the shared shape's residual scale (0: its default, 0.03) */
+    const uint8_t *shape_use; /* per photo of the set: used by the shared shape (NULL: every usable photo) */
 } fr_sfs_settings;
 
 void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s);

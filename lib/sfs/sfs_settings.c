@@ -26,4 +26,5 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->joint_albedo = 0;
     s->shape_iterations = 0;
     s->shape_sigma = 0;
+    s->shape_use = NULL;
 }
