@@ -226,30 +226,6 @@ static void dist_add(dist_stats *d, const double *ours, const double *dlib, cons
     }
 }
 
-static int has_truth(const char *photo, double *truth) {
-    if (strstr(photo, "landmarks_dlib_examples")) return 0; /* dlib's predictions, not ground truth */
-    char pts[4096];
-    const char *dot = strrchr(photo, '.');
-    if (!dot || (size_t)(dot - photo) + 5 > sizeof pts) return 0;
-    snprintf(pts, sizeof pts, "%.*s.pts", (int)(dot - photo), photo);
-    return lm_read_pts(pts, truth);
-}
-
-/* Our face holding the truth's centroid, nearest centre; -1 when none. */
-static long face_at_truth(const fr_detected_face *v, size_t n, const double *truth) {
-    double cx = 0, cy = 0;
-    for (int i = 0; i < LM_POINTS; i++) cx += truth[2 * i] / LM_POINTS, cy += truth[2 * i + 1] / LM_POINTS;
-    long best = -1;
-    double bd = INFINITY;
-    for (size_t k = 0; k < n; k++) {
-        const double *b = v[k].box;
-        if (cx < b[0] || cx > b[0] + b[2] || cy < b[1] || cy > b[1] + b[3]) continue;
-        double d = hypot(cx - b[0] - 0.5 * b[2], cy - b[1] - 0.5 * b[3]);
-        if (d < bd) bd = d, best = (long)k;
-    }
-    return best;
-}
-
 typedef struct e2e_opts {
     double opencv_seconds, dlib_us;
     int gray_check;
@@ -345,9 +321,9 @@ static int end_to_end(frig_ctx *ctx, const frig_detector *det, const lm_face *re
             dist_add(&raw, u[i].landmarks, ref[match[i]].dlib, photos[p]);
         }
         double truth[2 * LM_POINTS];
-        if (has_truth(photos[p], truth)) {
+        if (lm_truth_pts(photos[p], truth)) {
             gt++;
-            long k = face_at_truth(v, n, truth), d = lm_match_truth(ref, nref, photos[p], truth);
+            long k = lm_face_at_truth(v, n, truth), d = lm_match_truth(ref, nref, photos[p], truth);
             double e_cal = k >= 0 ? lm_nme(v[k].landmarks, truth) : NAN;
             double e_raw = k >= 0 ? lm_nme(u[k].landmarks, truth) : NAN;
             double e_dlib = d >= 0 ? lm_nme(ref[d].dlib, truth) : NAN;
@@ -472,8 +448,8 @@ static int ssd_eval(frig_ctx *ctx, const frig_detector *det, const lm_face *ref,
             faces++;
         }
         double truth[2 * LM_POINTS];
-        if (has_truth(photos[p], truth)) {
-            long k = face_at_truth(v, n, truth);
+        if (lm_truth_pts(photos[p], truth)) {
+            long k = lm_face_at_truth(v, n, truth);
             long d = lm_match_truth(ref, nref, photos[p], truth);
             double e_net = -1, e_dl = -1, e_own = d >= 0 ? lm_nme(ref[d].dlib, truth) : -1;
             if (k >= 0) {

@@ -17,6 +17,10 @@ typedef struct synth_photo_truth {
     int n_expr;
     char names[64][64];
     double weights[64];
+    double yaw_deg;
+    char failure[32];             /* "none", "occluder", "extreme_pose", ... */
+    int has_landmarks;            /* the photo shows the face's landmarks */
+    double landmarks[136];        /* the truth's detector-like landmarks (jaw on the outline) */
 } synth_photo_truth;
 
 static inline char *synth_read_text(const char *path) {
@@ -69,6 +73,17 @@ static inline int synth_truth_read(const char *photo, int with_depth, synth_phot
         tr->cy = cJSON_GetObjectItemCaseSensitive(cam, "cy")->valuedouble;
         tr->width = cJSON_GetObjectItemCaseSensitive(root, "width")->valueint;
         tr->height = cJSON_GetObjectItemCaseSensitive(root, "height")->valueint;
+        const cJSON *yaw = cJSON_GetObjectItemCaseSensitive(pose, "yaw_deg");
+        tr->yaw_deg = cJSON_IsNumber(yaw) ? yaw->valuedouble : 0;
+        const cJSON *fail = cJSON_GetObjectItemCaseSensitive(root, "failure");
+        snprintf(tr->failure, sizeof tr->failure, "%s", cJSON_IsString(fail) ? fail->valuestring : "?");
+        const cJSON *lm = cJSON_GetObjectItemCaseSensitive(root, "landmarks");
+        const cJSON *det = lm ? cJSON_GetObjectItemCaseSensitive(lm, "detector_like") : NULL;
+        if (cJSON_IsArray(det) && cJSON_GetArraySize(det) == 68) {
+            tr->has_landmarks = 1;
+            for (int k = 0; k < 68; k++)
+                tr->has_landmarks &= json_numbers(cJSON_GetArrayItem(det, k), tr->landmarks + 2 * k, 2);
+        }
         const cJSON *e = cJSON_GetObjectItemCaseSensitive(root, "expression"), *it;
         cJSON_ArrayForEach(it, e) {
             if (tr->n_expr >= 64) break;

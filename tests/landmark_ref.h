@@ -13,6 +13,7 @@
 
 #include <cjson/cJSON.h>
 
+#include "detect/detector.h"
 #include "detect/gray_like_dlib.h"
 #include "detect/shape_predictor.h"
 #include "frig/frig.h"
@@ -195,6 +196,32 @@ static inline double lm_nme(const double *pts, const double *truth) {
     for (int i = 0; i < LM_POINTS; i++) sum += hypot(pts[2 * i] - truth[2 * i], pts[2 * i + 1] - truth[2 * i + 1]);
     double iod = hypot(truth[72] - truth[90], truth[73] - truth[91]);
     return sum / LM_POINTS / iod;
+}
+
+/* The ground truth beside a photo: STEM.pts (not for dlib's predicted example faces, which
+ * are no ground truth). 1 when read. */
+static inline int lm_truth_pts(const char *photo, double *truth) {
+    if (strstr(photo, "landmarks_dlib_examples")) return 0;
+    char pts[4096];
+    const char *dot = strrchr(photo, '.');
+    if (!dot || (size_t)(dot - photo) + 5 > sizeof pts) return 0;
+    snprintf(pts, sizeof pts, "%.*s.pts", (int)(dot - photo), photo);
+    return lm_read_pts(pts, truth);
+}
+
+/* Our face (box x, y, w, h) holding the truth's centroid, nearest centre; -1 when none. */
+static inline long lm_face_at_truth(const fr_detected_face *v, size_t n, const double *truth) {
+    double cx = 0, cy = 0;
+    for (int i = 0; i < LM_POINTS; i++) cx += truth[2 * i] / LM_POINTS, cy += truth[2 * i + 1] / LM_POINTS;
+    long best = -1;
+    double bd = INFINITY;
+    for (size_t k = 0; k < n; k++) {
+        const double *b = v[k].box;
+        if (cx < b[0] || cx > b[0] + b[2] || cy < b[1] || cy > b[1] + b[3]) continue;
+        double d = hypot(cx - b[0] - 0.5 * b[2], cy - b[1] - 0.5 * b[3]);
+        if (d < bd) bd = d, best = (long)k;
+    }
+    return best;
 }
 
 /* The face of 'faces' (those of image 'path') whose box holds the ground truth's centroid

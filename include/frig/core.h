@@ -124,9 +124,10 @@ typedef enum frig_param {
     /* detect with face-api's networks (frig/identity.h) */
     FRIG_PARAM_DETECT_DETECTOR = 209,       /* 0: SSD where its weights are installed, else cascades; 1: cascades; 2: SSD */
     FRIG_PARAM_DETECT_SSD_MIN_SCORE = 210,  /* SSD faces scored above this are kept (default 0.2; the package's 0.5) */
-    FRIG_PARAM_DETECT_LANDMARKS = 211,      /* landmarks on SSD faces: 1 dlib's predictor (default), 2 face-api's net */
+    FRIG_PARAM_DETECT_LANDMARKS = 211,      /* landmarks on SSD faces: 1 dlib's predictor on the box from the net's points (default), 2 face-api's net, 3 dlib on the mapped SSD box */
     FRIG_PARAM_DETECT_DESCRIPTORS = 212,    /* 1: a 128-D descriptor for every face when the networks are there */
     FRIG_PARAM_DETECT_SSD_FALLBACK = 213,   /* 1: where the SSD finds no face, the cascades search (default 1) */
+    FRIG_PARAM_DETECT_NET_TURN = 214,       /* with detect.landmarks 1, faces turned more than this keep the net's points (default 0.8; >1 never) */
 
 
     /* filter (section 4.2, Algorithm 1) */

@@ -45,9 +45,13 @@ static const param_row rows[] = {
     {FRIG_PARAM_DETECT_SSD_MIN_SCORE, "detect.ssd_min_score", 0.2, 0.01, 0.99, 0,
      "faces the SSD detector scores above this are kept (the package's default is 0.5; 0.2 finds the small faces of "
      "group photos, and the identity step sets aside what is not the subject)"},
-    {FRIG_PARAM_DETECT_LANDMARKS, "detect.landmarks", 1, 1, 2, 1,
-     "landmarks on SSD faces: 1 dlib's predictor on the box mapped to dlib's convention (NME 0.029 on the ground-truth "
-     "faces), 2 face-api's 68-point net (0.056; better only on a full profile)"},
+    {FRIG_PARAM_DETECT_LANDMARKS, "detect.landmarks", 1, 1, 3, 1,
+     "landmarks on SSD faces: 1 dlib's predictor on its box convention placed by face-api's 68-point net's points, 2 "
+     "that net's points, 3 dlib's predictor on the SSD box mapped to dlib's convention (turned faces collapse to a "
+     "frontal layout: docs/detect.md)"},
+    {FRIG_PARAM_DETECT_NET_TURN, "detect.net_turn", 0.8, 0, 2, 0,
+     "with detect.landmarks 1, a face whose nose tip lies this far toward the outline (0 midway, 1 on it: about 40 "
+     "degrees of yaw) keeps face-api's net's points, which follow a turned face better than dlib's; above 1: never"},
     {FRIG_PARAM_DETECT_SSD_FALLBACK, "detect.ssd_fallback", 1, 0, 1, 1,
      "1: where the SSD detector finds no face, the cascades search the photo (small faces of web thumbnails; the "
      "identity step marks what is not the subject)"},

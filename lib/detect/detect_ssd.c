@@ -3,6 +3,7 @@
  * dlib's predictor on the box mapped to dlib's convention), and a 128-D descriptor for every
  * face from its recognition net on the face chip aligned as the package aligns it (on the
  * landmark net's points). The identity step (lib/identity) uses the descriptors. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -33,7 +34,7 @@ frig_status fr_detect_ssd(frig_ctx *ctx, const frig_detector *det, const frig_im
         return fr_nomem(ctx, "SSD faces");
     }
     frig_image *gray = NULL;
-    if (det->landmark_source == 1) st = fr_gray_like_dlib(ctx, image, &gray);
+    if (det->landmark_source != 2) st = fr_gray_like_dlib(ctx, image, &gray);
     for (size_t i = 0; i < n && !st; i++) {
         fr_detected_face *f = &v[i];
         f->score = boxes[i].score;
@@ -54,7 +55,17 @@ frig_status fr_detect_ssd(frig_ctx *ctx, const frig_detector *det, const frig_im
                                         f->descriptor);
             f->has_descriptor = !st;
         }
-        if (!st && det->landmark_source == 1) st = fr_detect_landmarks_on(ctx, det, gray, f, 1);
+        /* dlib's predictor on the box its training used, placed by the net's points (1), or on
+         * the SSD's box mapped to dlib's convention (3): on a face turned 30 degrees or more the
+         * SSD's box covers the head and the predictor then draws a frontal face in it */
+        int use_dlib = det->landmark_source == 3 || (det->landmark_source == 1 && fabs(fr_landmarks_turn(f->landmarks)) < det->net_turn);
+        if (!st && det->landmark_source != 2) {
+            double b[4];
+            fr_box_from_landmarks(f->landmarks, b);
+            if (det->landmark_source == 1 && b[2] >= 1 && b[3] >= 1 && isfinite(b[0]) && isfinite(b[1]))
+                memcpy(f->box, b, sizeof b);
+        }
+        if (!st && use_dlib) st = fr_detect_landmarks_on(ctx, det, gray, f, 1);
     }
     frig_image_free(gray);
     free(boxes);

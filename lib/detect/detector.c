@@ -60,6 +60,7 @@ static frig_status load_nets(frig_ctx *ctx, const char *face_models, frig_detect
     int mode = fr_param_int(ctx, FRIG_PARAM_DETECT_DETECTOR);
     det->descriptors = fr_param_int(ctx, FRIG_PARAM_DETECT_DESCRIPTORS);
     det->landmark_source = fr_param_int(ctx, FRIG_PARAM_DETECT_LANDMARKS);
+    det->net_turn = fr_param(ctx, FRIG_PARAM_DETECT_NET_TURN);
     det->ssd_min_score = fr_param(ctx, FRIG_PARAM_DETECT_SSD_MIN_SCORE);
     det->ssd_fallback = fr_param_int(ctx, FRIG_PARAM_DETECT_SSD_FALLBACK);
     if (mode == 1 && !det->descriptors) return FRIG_OK;

@@ -26,7 +26,7 @@ struct frig_detector {
      * replaces the cascades when use_ssd; descriptors for every face when descriptors */
     fr_face_models *nets;
     int use_ssd, landmark_source, descriptors, ssd_fallback;
-    double ssd_min_score;
+    double ssd_min_score, net_turn;
 };
 
 /* A face on its way through the stage: box x, y, w, h (upright pixels; after calibration in
@@ -93,6 +93,12 @@ typedef struct fr_box_map {
  * identity for others. */
 fr_box_map fr_box_map_for(int source);
 void fr_box_map_apply(const fr_box_map *m, const double raw[4], double out[4]);
+/* dlib's HOG box (x, y, w, h) of a face from its 68 points (measured map, box_calibration.c):
+ * the box for dlib's predictor from another model's points (face-api's landmark net). */
+void fr_box_from_landmarks(const double *landmarks, double box[4]);
+/* How far the face of 68 points is turned: the nose tip's place between the outline's sides
+ * at its height, -1 .. 1 (0 frontal). */
+double fr_landmarks_turn(const double *landmarks);
 /* dlib rectangle (left, top, right, bottom) of an x, y, w, h box. */
 void fr_box_to_ltrb(const double box[4], double ltrb[4]);
 
