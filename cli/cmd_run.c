@@ -11,6 +11,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
+#include <math.h>
 #include <signal.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -26,9 +27,11 @@ const char cmd_run_usage[] =
     "usage: frig run PHOTO|FOLDER|VIDEO... -o OUT|NAME.glb [--model FILE] [--cascades DIR]\n"
     "                [--landmark-model FILE] [--face-models DIR] [--no-report]\n"
     "\n"
-    "The whole pipeline: frames from videos, detect, identity, filter, fit, export, and a report page\n"
-    "(docs/run.md). Writes OUT/rig.glb, OUT/shapes/*.obj and OUT/report.html (open it first),\n"
-    "OUT/report.json (every photo's fate) and the workspace the stage commands read (frig\n"
+    "The whole pipeline: frames from videos, detect, identity, filter, fit, sfs, retarget (with the\n"
+    "outer loop: refit, sfs, retarget, retarget.iterations rounds), export, and a report page\n"
+    "(docs/run.md). Writes OUT/rig.glb (the personalized rig, textured with OUT/textures/albedo.png),\n"
+    "OUT/shapes/*.obj, OUT/clouds/*.ply, OUT/report.html (open it first), OUT/report.json\n"
+    "(every photo's fate) and the workspace the stage commands read (frig\n"
     "export -w OUT ...). With -o NAME.glb the rig is NAME.glb and NAME_shapes/, the rest\n"
     "NAME_run/. A folder stands for its photos (or, with none, its videos: .mp4 .mov .mkv .webm,\n"
     "each sampled to run.video_frames evenly spread frames with ffmpeg). Inputs are only read.\n"
@@ -42,7 +45,8 @@ const char cmd_run_usage[] =
     "  --model FILE         the face model (default: $FRIG_MODEL or the user data folder)\n"
     "  --cascades DIR, --landmark-model FILE, --face-models DIR   detector data (frig help detect)\n"
     "  --no-report          skip report.html\n"
-    "Parameters: run.*, detect.*, identity.*, filter.*, fit.*, export.* (frig help params).\n";
+    "Parameters: run.*, detect.*, identity.*, filter.*, fit.*, sfs.*, retarget.*, export.* (frig help\n"
+    "params).\n";
 
 static run_ctx *signalled;
 
@@ -262,6 +266,8 @@ static int up_to_date(run_ctx *r, int i, const char *key) {
         copy_string(rec, "digest", res->digest, sizeof res->digest);
         copy_string(rec, "summary", res->summary, sizeof res->summary);
         res->seconds = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(rec, "seconds"));
+        res->cpu_seconds = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(rec, "cpu_seconds"));
+        if (!isfinite(res->cpu_seconds)) res->cpu_seconds = 0; /* a record from before it was kept */
         res->peak_rss_mb = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(rec, "peak_rss_mb"));
     }
     cJSON_Delete(rec);
@@ -283,6 +289,7 @@ static int write_record(run_ctx *r, int i, cJSON *opts) {
     cJSON_AddStringToObject(rec, "digest", res->digest);
     cJSON_AddStringToObject(rec, "summary", res->summary);
     cJSON_AddNumberToObject(rec, "seconds", res->seconds);
+    cJSON_AddNumberToObject(rec, "cpu_seconds", res->cpu_seconds);
     cJSON_AddNumberToObject(rec, "peak_rss_mb", res->peak_rss_mb);
     cJSON_AddNumberToObject(rec, "threads", frig_ctx_threads(r->env->ctx));
     cJSON_AddItemReferenceToObject(rec, "options", opts);
@@ -352,8 +359,9 @@ static int layout(run_ctx *r, const char *given) {
 }
 
 static void clean_temps(run_ctx *r) {
-    static const char *const dirs[] = {"", "rig", "overlays/detect", "overlays/fit", "report", "report/thumbs", "textures",
-                                       "clouds", "stages/detect/partial"};
+    static const char *const dirs[] = {"", "rig", "overlays/detect", "overlays/fit", "overlays/sfs", "overlays/retarget",
+                                       "report", "report/thumbs", "textures", "clouds", "stages/sfs/clouds",
+                                       "stages/detect/partial"};
     char path[4200];
     for (size_t i = 0; i < sizeof dirs / sizeof dirs[0]; i++) run_remove_temps(run_path(r, dirs[i], path, sizeof path));
     for (int i = 0; i < run_stage_count; i++) {
@@ -403,10 +411,11 @@ static int run_stage_at(run_ctx *r, int i, const char *prev_digest, const char *
     }
     if (!r->env->quiet) run_progress_stage(r, "%s", st->what);
     run_peak_reset();
-    double t = run_now();
+    double t = run_now(), cpu = run_cpu_now();
     res->summary[0] = 0;
     rc = st->run(r);
     res->seconds = run_now() - t;
+    res->cpu_seconds = run_cpu_now() - cpu;
     res->peak_rss_mb = run_peak_mb();
     run_progress_done(r);
     if (rc == CLI_OK || rc == RUN_STOP) {
@@ -414,8 +423,8 @@ static int run_stage_at(run_ctx *r, int i, const char *prev_digest, const char *
         if (wr) rc = wr;
         res->done = res->ran = 1;
         if (!r->env->quiet)
-            fprintf(stderr, "frig run: [%d/%d] %-8s %s (%.1f s, %.0f MB)\n", i + 1, run_stage_count, st->name, res->summary,
-                    res->seconds, res->peak_rss_mb);
+            fprintf(stderr, "frig run: [%d/%d] %-8s %s (%.1f s, %.1f s CPU, %.0f MB)\n", i + 1, run_stage_count, st->name,
+                    res->summary, res->seconds, res->cpu_seconds, res->peak_rss_mb);
     }
     cJSON_Delete(opts);
     return rc;

@@ -2,9 +2,9 @@
  * opens from disk with no network (images beside it in OUT/report/, plots inline as SVG):
  * what came in and what was used (photos dropped, by reason), the rig rendered by libfrig's
  * own rasterizer (neutral from three sides, every blendshape on a contact sheet), the error
- * curves (cumulative distributions of landmark, fit and filter errors, as the paper's figures
- * show them), the time and memory of each stage, and every photo with its status, reason and
- * fit overlay. */
+ * curves (cumulative distributions of landmark, fit, shape-from-shading and filter errors, as
+ * the paper's figures show them), the sfs stage's overlays and albedo, retarget's rigs before and
+ * after, the time and memory of each stage, and every photo with its status, reason and overlays. */
 #include <dirent.h>
 #include <math.h>
 #include <stdarg.h>
@@ -14,6 +14,8 @@
 #include <sys/stat.h>
 
 #include <frig/fit.h>
+#include <frig/retarget.h>
+#include <frig/sfs.h>
 
 #include "run.h"
 
@@ -114,6 +116,8 @@ static const char *status_words(frig_photo_status s) {
     case FRIG_PHOTO_OUTLIER: return "dropped by the filter: landmarks the rest of the set cannot explain";
     case FRIG_PHOTO_FIT_FAILED: return "the model fit failed";
     case FRIG_PHOTO_DUPLICATE: return "the same file as an earlier photo";
+    case FRIG_PHOTO_OTHER_PERSON: return "another person than the set's subject";
+    case FRIG_PHOTO_SFS_FAILED: return "fitted, but shape from shading could not read the face (the rig does not use its shading)";
     default: return "";
     }
 }
@@ -312,6 +316,126 @@ static void section_rig(page *p, int have_rig) {
            "src=\"report/expressions.png\" alt=\"contact sheet of the neutral and every blendshape\"></a>\n");
 }
 
+/* The sfs stage's curves: each photo's shading error (the median relative error |I - a S(n)| /
+ * |a S(n)| over its skin, eq. 5.15's E), clouds kept and sfs_failed apart; and each cloud's RMS
+ * distance to the personalized rig after retarget's correspondence. */
+static void section_sfs_errors(page *p, const frig_photoset *set) {
+    size_t n = set ? frig_photoset_count(set) : 0, nk = 0, nx = 0, nc = 0;
+    double *kept = n ? malloc(sizeof(double) * n) : NULL, *failed = n ? malloc(sizeof(double) * n) : NULL;
+    double *cloud = n ? malloc(sizeof(double) * n) : NULL;
+    for (size_t i = 0; kept && failed && cloud && i < n; i++) {
+        double e, rms;
+        size_t px, in;
+        if (frig_photoset_sfs_done(set, i) && frig_photoset_sfs_stats(set, i, &px, &in, &e) == FRIG_OK && isfinite(e)) {
+            /* a photo that failed before its shading was solved has no error to show */
+            if (frig_photoset_status(set, i) == FRIG_PHOTO_SFS_FAILED) {
+                if (e > 0) failed[nx++] = 100 * e;
+            }
+            else if (frig_photoset_status(set, i) == FRIG_PHOTO_OK) kept[nk++] = 100 * e;
+        }
+        if (frig_photoset_retargeted(set, i) && frig_photoset_retarget_figures(set, i, NULL, &rms, NULL, NULL) == FRIG_OK &&
+            isfinite(rms))
+            cloud[nc++] = rms;
+    }
+    if (nk + nx) {
+        series s[2] = {{"clouds kept", "#8bd17c", kept, nk}, {"sfs_failed", "#e0645a", failed, nx}};
+        plot(p, "Shape-from-shading error per photo", "median shading error |I - a S(n)| / a S(n), %", s, 2, 0,
+             "Each fitted photo's median relative error between its skin pixels and the shading the recovered depth, "
+             "albedo and lighting synthesize (section 5.1); pixels above sfs.e_max are left out of its cloud.");
+    } else {
+        put(p, "<figure class=\"plot note\"><p><b>Shape-from-shading error</b></p><p class=\"muted\">No photo has "
+               "shape-from-shading results: the run stopped before the sfs stage.</p></figure>");
+    }
+    if (nc) {
+        series c[1] = {{"clouds", "#6fb3e0", cloud, nc}};
+        plot(p, "Cloud distance to the personalized rig", "RMS distance of matched cloud points, mm", c, 1, 0,
+             "Each photo's point cloud against the personalized rig drawn at the photo's weights, after the last "
+             "retarget round (points farther than retarget.max_distance_mm are not matched).");
+    }
+    free(kept), free(failed), free(cloud);
+}
+
+/* OUT/overlays/sfs/STEM.jpg of photo i into rel when it exists; 0 when not. */
+static int sfs_overlay_for(run_ctx *r, const frig_photoset *set, size_t i, char *rel, size_t size) {
+    const char *photo = frig_photoset_path(set, i), *base = strrchr(photo, '/') ? strrchr(photo, '/') + 1 : photo;
+    const char *dot = strrchr(base, '.');
+    int stem = (int)(dot && dot != base ? (size_t)(dot - base) : strlen(base));
+    char path[4200];
+    struct stat st;
+    snprintf(rel, size, "overlays/sfs/%.*s.jpg", stem, base);
+    return frig_photoset_sfs_done(set, i) && stat(run_path(r, rel, path, sizeof path), &st) == 0;
+}
+
+/* The sfs and retarget stages: the albedo, the rigs before and after, and the photos' sfs
+ * pictures (skin, synthesized shading, error, kept region), the lowest-error ones first. */
+static void section_shape(page *p, run_ctx *r, const frig_photoset *set) {
+    char path[4200];
+    struct stat st;
+    int albedo = stat(run_path(r, "textures/albedo.png", path, sizeof path), &st) == 0;
+    int rigs = stat(run_path(r, "overlays/retarget/rigs.png", path, sizeof path), &st) == 0;
+    size_t n = set ? frig_photoset_count(set) : 0, shown = 0, *order = n ? malloc(sizeof(size_t) * n) : NULL;
+    double *err = n ? malloc(sizeof(double) * n) : NULL;
+    char rel[4200];
+    for (size_t i = 0; order && err && i < n; i++) {
+        double e;
+        if (frig_photoset_status(set, i) != FRIG_PHOTO_OK || !sfs_overlay_for(r, set, i, rel, sizeof rel) ||
+            frig_photoset_sfs_stats(set, i, NULL, NULL, &e))
+            continue;
+        size_t k = shown++;
+        for (; k > 0 && err[k - 1] > e; k--) err[k] = err[k - 1], order[k] = order[k - 1]; /* by error, stable */
+        err[k] = e, order[k] = i;
+    }
+    put(p, "<h2 id=\"shape\">The person's own shape</h2>\n");
+    if (!albedo && !rigs && !shown) {
+        put(p, "<p class=\"muted\">No shape from shading yet: the run stopped before the sfs stage, or no photo's shading "
+               "could be read.</p>\n");
+        free(order), free(err);
+        return;
+    }
+    put(p, "<p class=\"muted\">The sfs stage (section 5.1) recovers a point cloud of the face from each photo's shading and "
+           "the subject's albedo; the retarget stage (sections 5.2-5.3) deforms the rig onto the clouds, beyond the "
+           "model's span, then refits every photo and recovers the clouds again (retarget.iterations rounds).</p>\n"
+           "<div class=\"hero\">");
+    if (rigs)
+        put(p, "<figure><a href=\"overlays/retarget/rigs.png\"><img class=\"sheet\" src=\"overlays/retarget/rigs.png\" "
+               "alt=\"the fit's rig and the personalized rig\"></a><figcaption>top: the fit's rig (the model's span); "
+               "bottom: the personalized rig (rig.glb): neutral front and turned, jawOpen, smile, blink, brows up, "
+               "pucker</figcaption></figure>");
+    if (albedo)
+        put(p, "<figure><a href=\"textures/albedo.png\"><img src=\"textures/albedo.png\" width=\"256\" height=\"256\" "
+               "alt=\"the albedo texture\"></a><figcaption>textures/albedo.png: the skin's albedo in the model's UV "
+               "layout, rig.glb's face texture</figcaption></figure>");
+    put(p, "</div>\n");
+    if (shown) {
+        char dir[4200];
+        cli_make_dir(r->env, run_path(r, "report/sfs", dir, sizeof dir));
+        size_t show = shown < 12 ? shown : 12;
+        put(p, "<h3>Shape from shading, photo by photo <span class=\"count\">%zu</span></h3>\n<p class=\"muted\">The "
+               "%zu with the lowest shading error of the %zu with a cloud; every photo's is linked from its card below. Each picture: the "
+               "photo's face, its skin, the shading synthesized from the recovered depth, the error, and the region kept "
+               "in the cloud.</p>\n<div class=\"sfsgrid\">", shown, show, shown);
+        for (size_t k = 0; k < show; k++) {
+            size_t i = order[k];
+            char src[4200], thumb[256], dst[4200];
+            sfs_overlay_for(r, set, i, rel, sizeof rel);
+            snprintf(thumb, sizeof thumb, "report/sfs/%zu.jpg", i);
+            if (frig_image_save_thumbnail(r->env->ctx, run_path(r, rel, src, sizeof src), 2 * THUMB,
+                                          run_path(r, thumb, dst, sizeof dst)))
+                continue;
+            const char *photo = frig_photoset_path(set, i), *base = strrchr(photo, '/') ? strrchr(photo, '/') + 1 : photo;
+            put(p, "<figure><a href=\"");
+            put_url(p, rel);
+            put(p, "\"><img loading=\"lazy\" src=\"%s\" alt=\"", thumb);
+            put_text(p, base);
+            put(p, "\"></a><figcaption>%zu &middot; ", i);
+            put_text(p, base);
+            put(p, " &middot; error %.1f%%</figcaption></figure>", 100 * err[k]);
+        }
+        put(p, "</div>\n");
+    }
+    free(order), free(err);
+}
+
 static void section_errors(page *p, run_ctx *r, const frig_photoset *set) {
     put(p, "<h2 id=\"errors\">Error curves</h2>\n<p class=\"muted\">Cumulative distributions: the share of items "
            "(vertical) with at most the error on the horizontal axis; the dot marks the median. Errors are in %% of "
@@ -362,8 +486,7 @@ static void section_errors(page *p, run_ctx *r, const frig_photoset *set) {
              "The robust-PCA reconstruction error of each checked photo; those above mu + omega sigma were dropped "
              "(filter.omega).");
     }
-    put(p, "<figure class=\"plot note\"><p><b>Shape-from-shading error</b></p><p class=\"muted\">Appears here once the "
-           "sfs stage (the paper's section 5.1) is part of frig run: the point clouds' error against the rig.</p></figure>");
+    section_sfs_errors(p, set);
     put(p, "</div>\n");
     free(err), free(eye), free(all), free(jaw), free(inner), free(rms), free(fe), free(fd);
 }
@@ -435,34 +558,43 @@ static void put_top_expressions(page *p, const frig_photoset *set, size_t i) {
 
 static void section_stages(page *p, run_ctx *r, const frig_photoset *set) {
     put(p, "<h2 id=\"stages\">Stages: time and memory</h2>\n<table class=\"stages\"><tr><th>stage</th><th>what</th><th>"
-           "this run</th><th class=\"num\">seconds</th><th class=\"num\">peak memory</th><th>result</th></tr>\n");
-    double total = 0, peak = 0;
+           "this run</th><th class=\"num\">seconds</th><th class=\"num\">CPU seconds</th><th class=\"num\">peak memory</th>"
+           "<th>result</th></tr>\n");
+    double total = 0, cpu = 0, peak = 0;
     for (int i = 0; i < run_stage_count; i++) {
         const run_result *res = &r->results[i];
         if (!res->done && i != r->stage) continue;
         int current = i == r->stage && !res->done; /* the report itself */
-        if (!current) total += res->seconds, peak = fmax(peak, res->peak_rss_mb);
+        if (!current) total += res->seconds, cpu += res->cpu_seconds, peak = fmax(peak, res->peak_rss_mb);
         put(p, "<tr><td>%s</td><td>", run_stages[i].name);
         put_text(p, run_stages[i].what);
         if (current) {
-            put(p, "</td><td>writing this page</td><td class=\"num\"></td><td class=\"num\"></td><td></td></tr>\n");
+            put(p, "</td><td>writing this page</td><td class=\"num\"></td><td class=\"num\"></td><td class=\"num\"></td><td></td>"
+                   "</tr>\n");
             continue;
         }
-        put(p, "</td><td>%s</td><td class=\"num\">%.1f</td><td class=\"num\">%.0f MB</td><td>", res->ran ? "ran" : "kept",
-            res->seconds, res->peak_rss_mb);
+        put(p, "</td><td>%s</td><td class=\"num\">%.1f</td><td class=\"num\">%.1f</td><td class=\"num\">%.0f MB</td><td>",
+            res->ran ? "ran" : "kept", res->seconds, res->cpu_seconds, res->peak_rss_mb);
         put_text(p, res->summary);
         put(p, "</td></tr>\n");
     }
     size_t n = set ? frig_photoset_count(set) : 0;
     put(p, "<tr class=\"total\"><td>all</td><td>%zu photos, %d thread%s</td><td></td><td class=\"num\">%.1f</td>"
-           "<td class=\"num\">%.0f MB</td><td>",
-        n, frig_ctx_threads(r->env->ctx), frig_ctx_threads(r->env->ctx) == 1 ? "" : "s", total, peak);
+           "<td class=\"num\">%.1f</td><td class=\"num\">%.0f MB</td><td>",
+        n, frig_ctx_threads(r->env->ctx), frig_ctx_threads(r->env->ctx) == 1 ? "" : "s", total, cpu, peak);
+    int sfs = 0, retarget = 0;
+    for (int i = 0; i < run_stage_count; i++) {
+        sfs |= r->results[i].done && strcmp(run_stages[i].name, "sfs") == 0;
+        retarget |= r->results[i].done && strcmp(run_stages[i].name, "retarget") == 0;
+    }
     if (n && total > 0)
         put(p, "the paper's pipeline took about %.0f s for 100 photos; this run's stages, %.1f s per 100 photos (%.0fx "
-               "faster, without the paper's sfs and retargeting)",
-            PAPER_SECONDS, total * 100.0 / (double)n, PAPER_SECONDS / (total * 100.0 / (double)n));
+               "faster%s)",
+            PAPER_SECONDS, total * 100.0 / (double)n, PAPER_SECONDS / (total * 100.0 / (double)n),
+            sfs && retarget ? ", sfs and retargeting included" : ", without sfs and retargeting, which this run did not reach");
     put(p, "</td></tr></table>\n<p class=\"muted\">Times are the last run of each stage (\"kept\": an earlier run whose "
-           "options and inputs still hold). Peak memory is the process's resident peak during the stage.</p>\n");
+           "options and inputs still hold). Peak memory is the process's resident peak during the stage. CPU seconds are user + system time of all "
+           "threads: on a machine shared with other work the wall time grows, the CPU time much less.</p>\n");
 }
 
 static void section_photos(page *p, run_ctx *r, const frig_photoset *set) {
@@ -514,6 +646,14 @@ static void section_photos(page *p, run_ctx *r, const frig_photoset *set) {
             if (frig_photoset_fit_in_joint(set, i)) put(p, ", joint");
             put(p, "</div>");
             if (frig_photoset_fitted(set, i)) put_top_expressions(p, set, i);
+            char sfs[4200];
+            size_t kept;
+            double e;
+            if (sfs_overlay_for(r, set, i, sfs, sizeof sfs) && frig_photoset_sfs_stats(set, i, NULL, &kept, &e) == FRIG_OK) {
+                put(p, "<div class=\"sfs\"><a href=\"");
+                put_url(p, sfs);
+                put(p, "\">shape from shading</a>: %zu points, error %.1f%%</div>", kept, 100 * e);
+            }
             const char *why = frig_photoset_reason(set, i);
             if (why && *why) {
                 put(p, "<div class=\"why\">");
@@ -558,7 +698,9 @@ static const char style[] =
     "color:#c9f0bf}.badge.warn{background:#6a4a1f;color:#ffd9a8}.badge.bad{background:#6a2a26;color:#ffc7c0}"
     ".badge.none{background:#3d3f44;color:#d0d1d4}.badge.dup{background:#2c3e56;color:#c8dcf5}\n"
     ".photo.warn{border-color:#5a4220}.photo.bad{border-color:#5a2622}.count{color:#9a9b98;font-weight:400}"
-    ".photo .expr{color:#c8b98a;margin-top:2px}\n"
+    ".photo .expr{color:#c8b98a;margin-top:2px}.photo .sfs{margin-top:2px}\n"
+    ".sfsgrid{display:grid;grid-template-columns:repeat(auto-fill,minmax(300px,1fr));gap:10px}.sfsgrid img{width:100%;"
+    "height:auto;display:block;border-radius:4px;background:#111}\n"
     ".cover{display:grid;grid-template-columns:repeat(auto-fill,minmax(330px,1fr));gap:3px 18px;font-size:13px}"
     ".cov{display:flex;align-items:center;gap:8px}.cov.none{color:#777}.cname{width:118px;white-space:nowrap;"
     "overflow:hidden;text-overflow:ellipsis}.bar{flex:1;height:9px;background:#2a2c30;border-radius:4px;overflow:hidden}"
@@ -582,11 +724,12 @@ int run_write_report(run_ctx *r) {
     put_text(&p, r->out);
     put(&p, "</title>\n%s</head><body><main>\n<h1>frig run report</h1><div class=\"muted\">", style);
     put_text(&p, r->out);
-    put(&p, " &middot; libfrig %s</div>\n<nav><a href=\"#rig\">rig</a><a href=\"#errors\">error curves</a><a "
+    put(&p, " &middot; libfrig %s</div>\n<nav><a href=\"#rig\">rig</a><a href=\"#shape\">own shape</a><a href=\"#errors\">error curves</a><a "
             "href=\"#coverage\">expressions</a><a href=\"#stages\">time and memory</a><a href=\"#photos\">photos</a></nav>\n",
         frig_version_string());
     section_summary(&p, r, set, have_rig);
     section_rig(&p, have_rig);
+    section_shape(&p, r, set);
     section_errors(&p, r, set);
     section_coverage(&p, set);
     section_stages(&p, r, set);

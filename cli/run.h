@@ -54,7 +54,8 @@ typedef struct run_source {
 typedef struct run_result {
     int done;          /* up to date now (ran or was up to date) */
     int ran;           /* ran in this invocation */
-    double seconds;    /* when it last ran */
+    double seconds;    /* when it last ran: wall time */
+    double cpu_seconds; /* user + system CPU time of the process (all threads) during it */
     double peak_rss_mb;
     char key[17], digest[17];
     char summary[512];
@@ -108,6 +109,7 @@ void run_remove_temps(const char *dir);
 /* rm -r of a folder the run owns. */
 int run_remove_tree(const char *path);
 double run_now(void);
+double run_cpu_now(void); /* user + system CPU seconds of the process so far */
 /* Peak resident memory: reset it (Linux: /proc/self/clear_refs) and read it, in MB. */
 void run_peak_reset(void);
 double run_peak_mb(void);

@@ -8,11 +8,14 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <frig/detect.h>
 #include <frig/filter.h>
 #include <frig/fit.h>
 #include <frig/identity.h>
+#include <frig/retarget.h>
+#include <frig/sfs.h>
 
 #include "run.h"
 
@@ -347,6 +350,123 @@ static int fit_run(run_ctx *r) {
     return rc;
 }
 
+/* ---- sfs: per-photo clouds from shading (section 5.1) ----
+ * Its clouds and albedo stay in its own folder (OUT/stages/sfs/clouds/, albedo.png): the
+ * retarget stage's outer loop recovers them again with each new rig and writes the final ones
+ * to OUT/clouds/ and OUT/textures/albedo.png, so neither stage rewrites the other's files. */
+
+static int sfs_run(run_ctx *r) {
+    cli_env *env = r->env;
+    frig_photoset *set = NULL;
+    int rc = run_load_set(r, &set);
+    if (rc) return rc;
+    frig_rig *rig = NULL;
+    frig_clouds *clouds = NULL;
+    frig_image *albedo = NULL;
+    char dir[4200], overlays[4200], path[4300];
+    run_path(r, "stages/sfs", dir, sizeof dir);
+    run_path(r, "overlays/sfs", overlays, sizeof overlays);
+    cli_clear_jpegs(overlays);
+    snprintf(path, sizeof path, "%s/albedo.png", dir);
+    if (frig_rig_load(env->ctx, r->rig_from, &rig)) rc = cli_fail(env, "run");
+    else if (frig_sfs(env->ctx, rig, set, overlays, &clouds, &albedo)) {
+        if (frig_ctx_status(env->ctx) != FRIG_ERR_TOO_FEW) rc = fail_or_interrupted(r);
+        else unlink(path); /* no photo's shading could be read: retarget keeps the fit's rig */
+    }
+    if (rc == CLI_OK && !clouds) {
+        char stale[4300];
+        snprintf(stale, sizeof stale, "%s/clouds", dir);
+        run_remove_tree(stale);
+    }
+    if (rc == CLI_OK && clouds && frig_clouds_save(env->ctx, clouds, set, dir)) rc = fail_or_interrupted(r);
+    if (rc == CLI_OK && albedo && frig_image_save_png(env->ctx, albedo, path)) rc = fail_or_interrupted(r);
+    if (rc == CLI_OK) rc = run_save_set(r, set);
+    if (rc == CLI_OK) {
+        size_t with = 0, failed = 0, points = 0;
+        for (size_t i = 0; i < frig_photoset_count(set); i++) {
+            if (!frig_photoset_sfs_done(set, i)) continue;
+            failed += frig_photoset_status(set, i) == FRIG_PHOTO_SFS_FAILED;
+            with += frig_clouds_count(clouds, i) > 0;
+            points += frig_clouds_count(clouds, i);
+        }
+        if (clouds)
+            run_summary(r, "%zu clouds (%zu points), %zu photo%s sfs_failed", with, points, failed, failed == 1 ? "" : "s");
+        else
+            run_summary(r, "no photo's shading could be read (%zu sfs_failed): the rig stays the fit's", failed);
+    }
+    frig_image_free(albedo);
+    frig_clouds_free(clouds);
+    frig_rig_free(rig);
+    frig_photoset_free(set);
+    return rc;
+}
+
+/* ---- retarget: the personalized rig, with the outer loop (sections 5.2-5.3) ---- */
+
+/* OUT/textures/albedo.png: the last recovery's albedo, or the sfs stage's when the loop did
+ * not recover the clouds again; none when sfs had none. */
+static int write_texture(run_ctx *r, const frig_image *albedo) {
+    char dir[4200], path[4300], from[4300];
+    run_path(r, "textures", dir, sizeof dir);
+    snprintf(path, sizeof path, "%s/albedo.png", dir);
+    run_path(r, "stages/sfs/albedo.png", from, sizeof from);
+    if (cli_make_dir(r->env, dir)) return CLI_FAILED;
+    if (albedo) return frig_image_save_png(r->env->ctx, albedo, path) ? fail_or_interrupted(r) : CLI_OK;
+    size_t size;
+    char *bytes = run_read_text(from, &size);
+    int rc = CLI_OK;
+    if (!bytes) unlink(path);
+    else if (run_write_atomic(path, bytes, size)) rc = cli_fail_msg("run", "cannot write %s: %s", path, strerror(errno));
+    free(bytes);
+    return rc;
+}
+
+static int retarget_run(run_ctx *r) {
+    cli_env *env = r->env;
+    int rc = run_load_model(r);
+    frig_photoset *set = NULL;
+    if (!rc) rc = run_load_set(r, &set);
+    if (rc) return rc;
+    frig_rig *rig = NULL, *before = NULL;
+    frig_clouds *clouds = NULL;
+    cli_sfs_recover rec = {NULL, NULL, 0};
+    char sfs_dir[4200], sheet[4200];
+    run_path(r, "stages/sfs", sfs_dir, sizeof sfs_dir);
+    size_t with = 0;
+    if (frig_rig_load(env->ctx, r->rig_from, &rig) || frig_clouds_load(env->ctx, set, sfs_dir, &clouds) ||
+        frig_rig_clone(env->ctx, rig, &before))
+        rc = cli_fail(env, "run");
+    for (size_t i = 0; rc == CLI_OK && i < frig_photoset_count(set); i++) with += frig_clouds_count(clouds, i) > 0;
+    if (rc == CLI_OK && with && frig_retarget_refine(env->ctx, r->model, set, &clouds, rig, cli_sfs_recover_clouds, &rec))
+        rc = fail_or_interrupted(r);
+    if (rc == CLI_OK && frig_clouds_save(env->ctx, clouds, set, r->out)) rc = fail_or_interrupted(r);
+    if (rc == CLI_OK) rc = write_texture(r, rec.albedo);
+    if (rc == CLI_OK) rc = run_save_rig(r, rig);
+    if (rc == CLI_OK) rc = run_save_set(r, set);
+    if (rc == CLI_OK && with) {
+        const frig_rig *rows[2] = {before, rig};
+        const char *labels[2] = {"the fit's rig (the model's span)", "personalized"};
+        run_path(r, "overlays/retarget", sheet, sizeof sheet);
+        if (cli_make_dir(env, sheet)) rc = CLI_FAILED;
+        run_path(r, "overlays/retarget/rigs.png", sheet, sizeof sheet);
+        if (rc == CLI_OK && frig_retarget_write_sheet(env->ctx, r->model, rows, labels, 2, sheet)) rc = fail_or_interrupted(r);
+    }
+    if (rc == CLI_OK && !with) run_summary(r, "no point clouds: the rig is the fit's");
+    else if (rc == CLI_OK) {
+        int rounds = frig_photoset_retarget_rounds(set), photos = 0;
+        double change = 0, rms = 0;
+        if (rounds > 0) frig_photoset_retarget_round(set, rounds - 1, &change, &photos, &rms);
+        run_summary(r, "%d round%s (clouds recovered %d times more), %d photos, last round moved the neutral %.3f mm, cloud RMS %.2f mm",
+                    rounds, rounds == 1 ? "" : "s", rec.calls, photos, change, rms);
+    }
+    frig_image_free(rec.albedo);
+    frig_clouds_free(clouds);
+    frig_rig_free(before);
+    frig_rig_free(rig);
+    frig_photoset_free(set);
+    return rc;
+}
+
 /* ---- export: rig.glb and the OBJ folder ---- */
 
 static int export_options(run_ctx *r, cJSON *opts) {
@@ -400,6 +520,13 @@ const run_stage run_stages[] = {
     {"fit", "camera, pose and expression per photo, one identity (sections 4.3-4.4)", "fit. image.",
      "report.json, the photos, the face model", "stages/fit/report.json stages/fit/rig.frigrig overlays/fit",
      "stages/fit/report.json stages/fit/rig.frigrig", 1, 1, NULL, fit_options, fit_run},
+    {"sfs", "a point cloud per photo from its shading, the subject's albedo (section 5.1)", "sfs. image.",
+     "report.json, the photos, the fit's rig", "stages/sfs/report.json stages/sfs/clouds stages/sfs/albedo.png overlays/sfs",
+     "stages/sfs/report.json stages/sfs/clouds stages/sfs/albedo.png", 1, 0, NULL, NULL, sfs_run},
+    {"retarget", "the personalized rig from the clouds, refit and sfs again (sections 5.2-5.3)", "retarget. fit. sfs. image.",
+     "report.json, the clouds, the fit's rig, the face model",
+     "stages/retarget/report.json stages/retarget/rig.frigrig clouds textures overlays/retarget",
+     "stages/retarget/report.json stages/retarget/rig.frigrig textures", 1, 1, NULL, fit_options, retarget_run},
     {"export", "the rig as glTF and OBJ files", "export.", "the rig (the last rig stage's), textures/albedo.png", "@glb @shapes", "@glb",
      0, 0, NULL, export_options, export_run},
     {"report", "report.html: photos, renders, error curves, times", "", "everything above", "report.html report",

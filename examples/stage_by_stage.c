@@ -1,20 +1,40 @@
 /* The pipeline through libfrig's public API, one stage at a time: what `frig run` does, without
- * its resuming, video frames and report page.
+ * its resuming, video frames and report page: detect, filter, fit, sfs (a point cloud per photo
+ * from its shading, the albedo), retarget with the outer loop (refit on the new rig, sfs again,
+ * retarget: retarget.iterations rounds), export.
  *
  *   stage_by_stage MODEL OUT PHOTO...
  *
  * MODEL is the model file `frig model import-ict` writes; the detector's data come from Debian
- * (opencv-data, libdlib-data). Writes OUT/rig.glb and OUT/shapes/ and prints what each stage did.
+ * (opencv-data, libdlib-data). Writes OUT/rig.glb (the personalized rig, its face textured with
+ * OUT/albedo.png) and OUT/shapes/ and prints what each stage did.
  * Build against an installed libfrig:
  *   cc -std=c11 stage_by_stage.c $(pkg-config --cflags --libs frig) -o stage_by_stage */
 #include <stdio.h>
 #include <stdlib.h>
+#include <sys/stat.h>
 
 #include <frig/frig.h>
 
 static int fail(frig_ctx *ctx, const char *what) {
     fprintf(stderr, "stage_by_stage: %s: %s\n", what, frig_ctx_errmsg(ctx));
     return 1;
+}
+
+/* The outer loop's way to recover the clouds with the current rig: the sfs stage again (a
+ * frig_clouds_fn); the last albedo is kept in *user. */
+static frig_status recover_clouds(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
+                                  frig_photoset *set, frig_clouds **clouds) {
+    (void)model;
+    frig_image **albedo = user, *fresh_albedo = NULL;
+    frig_clouds *fresh = NULL;
+    frig_status s = frig_sfs(ctx, rig, set, NULL, &fresh, &fresh_albedo);
+    if (s) return s;
+    frig_clouds_free(*clouds);
+    *clouds = fresh;
+    frig_image_free(*albedo);
+    *albedo = fresh_albedo;
+    return FRIG_OK;
 }
 
 static size_t count_status(const frig_photoset *set, frig_photo_status status) {
@@ -33,6 +53,8 @@ int main(int argc, char **argv) {
     frig_photoset *set = NULL;
     frig_detector *det = NULL;
     frig_rig *rig = NULL;
+    frig_clouds *clouds = NULL;
+    frig_image *albedo = NULL;
     int rc = 1;
     if (!ctx) return 1;
     if (frig_model_load(ctx, argv[1], &model)) {
@@ -70,20 +92,47 @@ int main(int argc, char **argv) {
         if (frig_photoset_fitted(set, i) && frig_photoset_status(set, i) == FRIG_PHOTO_OK)
             fitted++, sum += frig_photoset_fit_error(set, i);
     printf("fit: %zu photos, mean landmark error %.2f px\n", fitted, fitted ? sum / (double)fitted : 0.0);
-    /* export: the subject's rig (the model-space rig until the sfs and retarget stages land) */
+    /* the model-space rig of the fitted identity: where sfs and retarget start */
     const double *identity = NULL;
     frig_photoset_identity(set, &identity);
-    char glb[4096], shapes[4096];
+    if (frig_rig_from_model(ctx, model, identity, &rig)) {
+        fail(ctx, "rig");
+        goto done;
+    }
+    /* sfs: a point cloud per photo from its shading, the subject's albedo (section 5.1) */
+    if (frig_sfs(ctx, rig, set, NULL, &clouds, &albedo)) {
+        fail(ctx, "sfs");
+        goto done;
+    }
+    size_t with = 0;
+    for (size_t i = 0; i < frig_photoset_count(set); i++) with += frig_clouds_count(clouds, i) > 0;
+    printf("sfs: %zu point clouds, %zu photos sfs_failed\n", with, count_status(set, FRIG_PHOTO_SFS_FAILED));
+    /* retarget: the personalized rig, beyond the model's span, with the outer loop (sections 5.2-5.3) */
+    if (frig_retarget_refine(ctx, model, set, &clouds, rig, recover_clouds, &albedo)) {
+        fail(ctx, "retarget");
+        goto done;
+    }
+    int rounds = frig_photoset_retarget_rounds(set), photos = 0;
+    double moved = 0, rms = 0;
+    if (rounds > 0) frig_photoset_retarget_round(set, rounds - 1, &moved, &photos, &rms);
+    printf("retarget: %d rounds, %d photos, the last moved the neutral %.3f mm, cloud RMS %.2f mm\n", rounds, photos,
+           moved, rms);
+    /* export: the personalized rig, its face textured with the albedo */
+    char glb[4096], shapes[4096], texture[4096];
     snprintf(glb, sizeof glb, "%s/rig.glb", argv[2]);
     snprintf(shapes, sizeof shapes, "%s/shapes", argv[2]);
-    if (frig_rig_from_model(ctx, model, identity, &rig) || frig_rig_save_obj(ctx, rig, shapes) ||
-        frig_rig_save_gltf(ctx, rig, glb)) {
+    snprintf(texture, sizeof texture, "%s/albedo.png", argv[2]);
+    mkdir(argv[2], 0755); /* POSIX; an existing folder is fine */
+    if (frig_image_save_png(ctx, albedo, texture) || frig_rig_set_face_texture(ctx, rig, texture) ||
+        frig_rig_save_obj(ctx, rig, shapes) || frig_rig_save_gltf(ctx, rig, glb)) {
         fail(ctx, "export");
         goto done;
     }
     printf("export: %s and %s/ (%d blendshapes)\n", glb, shapes, frig_rig_target_count(rig));
     rc = 0;
 done:
+    frig_image_free(albedo);
+    frig_clouds_free(clouds);
     frig_rig_free(rig);
     frig_detector_free(det);
     frig_photoset_free(set);

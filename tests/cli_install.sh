@@ -43,7 +43,7 @@ if [ -f "$photo" ] && [ -f /usr/share/dlib/shape_predictor_68_face_landmarks.dat
 fi
 
 # The pipeline one stage at a time through the public API (examples/stage_by_stage.c): built
-# against the installed library; run on five shared photos (LFW's 0001-0006, 0004 not among them) when the model and data are there.
+# against the installed library (sfs and retarget included); run on five shared photos (LFW's 0001-0006, 0004 not among them) when the model and data are there.
 cc -std=c11 -Wall -Wextra -Werror $extra -o "$tmp/stage_by_stage" "$FRIG_SOURCE_DIR/examples/stage_by_stage.c" \
   $(pkg-config --cflags --libs frig)
 . "$FRIG_SOURCE_DIR/tests/scripts/model_fixture.sh"
@@ -52,6 +52,8 @@ if [ -f "$photo" ] && [ -f /usr/share/dlib/shape_predictor_68_face_landmarks.dat
   LD_LIBRARY_PATH="$libdir" "$tmp/stage_by_stage" "$FRIG_TEST_MODEL" "$tmp/sbs" "$sets"/Tony_Blair_000[1-6].jpg > "$tmp/sbs.out"
   cat "$tmp/sbs.out"
   grep -q "^detect: 5 photos, 5 with a usable face$" "$tmp/sbs.out" && grep -q "^export: .*rig.glb and .*shapes/ (55 blendshapes)$" "$tmp/sbs.out" &&
+    grep -q "^sfs: [1-5] point clouds" "$tmp/sbs.out" && grep -q "^retarget: [1-3] rounds, [1-5] photos" "$tmp/sbs.out" &&
+    [ -s "$tmp/sbs/albedo.png" ] && grep -aq '"image/png"' "$tmp/sbs/rig.glb" &&
     [ -s "$tmp/sbs/rig.glb" ] || { echo "stage_by_stage did not run through"; exit 1; }
 fi
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# frig run on a synthetic subject: the whole pipeline, then what a rerun keeps (nothing changed:
-# every stage up to date, no file rewritten; another export option: only export and the report
-# run; another fit option: fit, export, report), a run killed (SIGKILL) at random points and
-# resumed until done giving byte-identical rig.glb and shapes/ to the clean run, a "full disk"
+# frig run on a synthetic subject: the whole pipeline (sfs and retarget with its outer loop
+# included), then what a rerun keeps (nothing changed: every stage up to date, no file
+# rewritten; another export option: only export and the report run; another fit option: fit and
+# what follows; another sfs option: sfs, retarget, export), a run killed (SIGKILL) at random
+# points and resumed until done giving byte-identical rig.glb, shapes/ and clouds/ to the clean run, a "full disk"
 # (a file-size limit) and a resume, too few photos (a sentence and exit 1), -o NAME.glb, inputs
 # left untouched, and the usage errors.
 set -u
@@ -25,25 +26,35 @@ M="$FRIG_TEST_MODEL"
 photos="$tmp/synth/subject_00/photos"
 before=$(cd "$photos" && sha256sum * | sha256sum)
 # The report and the SSD detector are tested by cli_run_report.sh (and identity's tests); here the
-# cascades (detect.detector=1), small textures and --no-report keep a dozen runs quick under ASan.
-run() { "$F" --threads 2 --set detect.detector=1 --set export.texture_size=64 "${@:2}" run "$photos" --model "$M" --no-report -o "$1"; }
+# cascades (detect.detector=1), small textures, a coarse sfs, one outer round (two, recovering the
+# clouds in the loop, in the kill test) and --no-report keep a dozen runs quick under ASan.
+O=(--set detect.detector=1 --set export.texture_size=64 --set sfs.texture_size=128 --set sfs.shape_size=64
+   --set sfs.face_px=100 --set retarget.iterations=1)
+run() { "$F" --threads 2 "${O[@]}" "${@:2}" run "$photos" --model "$M" --no-report -o "$1"; }
 # in the background, as its own process (exec: $! is frig itself, which the kill must hit)
-run_bg() { ( exec "$F" --threads 2 --set detect.detector=1 --set export.texture_size=64 run "$photos" --model "$M" --no-report -o "$1" ) > /dev/null 2>&1 & }
+run_bg() { ( exec "$F" --threads 2 "${O[@]}" run "$photos" --model "$M" --no-report -o "$1" ) > /dev/null 2>&1 & }
 
 # A clean run.
 run "$tmp/clean" > "$tmp/clean.out" 2> "$tmp/clean.err"; check '[ $? = 0 ]'
 cat "$tmp/clean.err"
 check '[ -s "$tmp/clean/rig.glb" ] && [ -f "$tmp/clean/shapes/neutral.obj" ] && [ -s "$tmp/clean/report.json" ]'
 check 'grep -q "^rig: $tmp/clean/rig.glb and $tmp/clean/shapes/$" "$tmp/clean.out"'
-for s in detect identity filter fit export; do check '[ -s "$tmp/clean/stages/'$s'/stage.json" ]'; done
+for s in detect identity filter fit sfs retarget export; do check '[ -s "$tmp/clean/stages/'$s'/stage.json" ]'; done
+# sfs and retarget: clouds, the albedo as rig.glb's face texture, the rigs sheet, two outer rounds
+check '[ $(ls "$tmp/clean/clouds" | grep -c "^photo_[0-9]*\.ply$") -ge 5 ] && [ -s "$tmp/clean/textures/albedo.png" ]'
+check '[ -s "$tmp/clean/overlays/retarget/rigs.png" ] && [ -n "$(ls "$tmp/clean/overlays/sfs")" ]'
+check 'grep -q "retarget .*1 round (clouds recovered 0 times more)" "$tmp/clean.err"'
+check 'cmp -s "$tmp/clean/textures/albedo.png" "$tmp/clean/stages/sfs/albedo.png"'   # no recovery: sfs's albedo
+check 'grep -aq "\"image/png\"" "$tmp/clean/rig.glb"'
+check '! cmp -s "$tmp/clean/stages/fit/rig.frigrig" "$tmp/clean/rig/rig.frigrig"'   # the personalized rig, not the fit's
 check '[ ! -e "$tmp/clean/stages/frames" ] && [ ! -e "$tmp/clean/stages/detect/partial" ]'
 check '[ "$(cd "$photos" && sha256sum * | sha256sum)" = "$before" ]'   # inputs untouched
-mkdir -p "$tmp/ref" && cp -r "$tmp/clean/rig.glb" "$tmp/clean/shapes" "$tmp/clean/stages" "$tmp/ref/"
+mkdir -p "$tmp/ref" && cp -r "$tmp/clean/rig.glb" "$tmp/clean/shapes" "$tmp/clean/clouds" "$tmp/clean/stages" "$tmp/ref/"
 
 # Nothing changed: every stage up to date, the rig not rewritten.
 stamp=$(stat -c %Y.%y "$tmp/clean/rig.glb")
 run "$tmp/clean" > /dev/null 2> "$tmp/again.err"; check '[ $? = 0 ]'
-check '[ $(grep -c "up to date" "$tmp/again.err") = 5 ] && [ "$(stat -c %Y.%y "$tmp/clean/rig.glb")" = "$stamp" ]'
+check '[ $(grep -c "up to date" "$tmp/again.err") = 7 ] && [ "$(stat -c %Y.%y "$tmp/clean/rig.glb")" = "$stamp" ]'
 # Another export option: detect, filter and fit are kept.
 cp "$tmp/clean/rig.glb" "$tmp/base.glb"
 run "$tmp/clean" --set export.eye_overlays=0 > /dev/null 2> "$tmp/ov.err"; check '[ $? = 0 ]'
@@ -56,40 +67,49 @@ check 'grep -q "filter .*up to date" "$tmp/fit.err" && ! grep -q "fit .*up to da
 cp "$tmp/clean/rig.glb" "$tmp/changed.glb"
 run "$tmp/clean" > /dev/null 2>&1; check '[ $? = 0 ]'
 check 'cmp -s "$tmp/clean/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/clean/shapes" "$tmp/ref/shapes" && ! cmp -s "$tmp/changed.glb" "$tmp/ref/rig.glb"'
+check 'diff -rq "$tmp/clean/clouds" "$tmp/ref/clouds"'
+# A full disk (a file-size limit the glTF cannot fit in) while export runs again (its record
+# removed): an error sentence, exit 1; then resumed: export alone, the same bytes.
+rm "$tmp/clean/stages/export/stage.json"
+( ulimit -f 4000; trap "" XFSZ; exec "$F" --threads 2 "${O[@]}" run "$photos" --model "$M" --no-report -o "$tmp/clean" ) > /dev/null 2> "$tmp/full.err"
+check '[ $? = 1 ] && grep -q "File too large\|write failed" "$tmp/full.err"'
+run "$tmp/clean" > /dev/null 2> "$tmp/full2.err"; check '[ $? = 0 ]'
+check 'grep -q "retarget .*up to date" "$tmp/full2.err" && ! grep -q "export .*up to date" "$tmp/full2.err"'
+check 'cmp -s "$tmp/clean/rig.glb" "$tmp/ref/rig.glb" && diff -rq "$tmp/clean/shapes" "$tmp/ref/shapes"'
+# Another sfs option: sfs and retarget run again (and export, the rig having changed), fit is kept.
+run "$tmp/clean" --set sfs.e_max=0.06 > /dev/null 2> "$tmp/sfs.err"; check '[ $? = 0 ]'
+check 'grep -q "fit .*up to date" "$tmp/sfs.err" && ! grep -q "sfs .*up to date" "$tmp/sfs.err" && ! grep -q "retarget .*up to date" "$tmp/sfs.err"'
+check '! diff -rq "$tmp/clean/clouds" "$tmp/ref/clouds" > /dev/null && ! cmp -s "$tmp/clean/rig.glb" "$tmp/ref/rig.glb"'
 
 # Killed (SIGKILL) at random points and resumed until done: the same bytes as a clean run
-# (bench/kill_resume.sh, the benchmark's kill test, on this small set; 3 kills).
-bash "$FRIG_SOURCE_DIR/bench/kill_resume.sh" "$photos" "$tmp/kr" 3 13 -- --model "$M" --set detect.detector=1 \
-  --set export.texture_size=64 > "$tmp/kr.out" 2>&1
+# (bench/kill_resume.sh, the benchmark's kill test, on this small set; 3 kills), with two outer
+# rounds: the clouds recovered with the personalized rig inside retarget.
+bash "$FRIG_SOURCE_DIR/bench/kill_resume.sh" "$photos" "$tmp/kr" 3 13 -- --model "$M" "${O[@]}" --set retarget.iterations=2 \
+  > "$tmp/kr.out" 2>&1
 check '[ $? = 0 ]'
 cat "$tmp/kr.out"
 check 'grep -q "^3 kills; rig.glb, shapes/ and clouds/ byte-identical to the clean run$" "$tmp/kr.out"'
-check 'cmp -s "$tmp/kr/killed/rig.glb" "$tmp/ref/rig.glb"'
-check '[ -z "$(find "$tmp/kr/killed" -name ".*.??????")" ]'   # no temporary files left
+check 'grep -q "retarget .*2 rounds (clouds recovered 1 times more)" "$tmp/kr/clean.log"'
+check '! cmp -s "$tmp/kr/clean/textures/albedo.png" "$tmp/kr/clean/stages/sfs/albedo.png"'   # the recovered albedo
+check '! diff -rq "$tmp/kr/clean/clouds" "$tmp/ref/clouds" > /dev/null'   # the clouds recovered in the loop
+check '[ -z "$(find "$tmp/kr/killed" "$tmp/clean" -name ".*.??????")" ]'   # no temporary files left
 
-# Two runs in one folder at once: the second says so and leaves the first alone.
-run_bg "$tmp/busy"
+# Two runs in one folder at once: the second says so and leaves the first alone. With
+# -o NAME.glb: that file, NAME_shapes/ beside it, the run's folder NAME_run/.
+run_bg "$tmp/named/face.glb"
 pid=$!
 sleep 0.5
-run "$tmp/busy" > /dev/null 2> "$tmp/busy.err"; check '[ $? = 1 ] && grep -q "another frig run is working in $tmp/busy" "$tmp/busy.err"'
-wait $pid; check '[ $? = 0 ] && cmp -s "$tmp/busy/rig.glb" "$tmp/ref/rig.glb"'
-
-# A full disk (a file-size limit the glTF cannot fit in): an error sentence, exit 1; then resumed.
-( ulimit -f 4000; trap "" XFSZ; exec "$F" --threads 2 --set detect.detector=1 --set export.texture_size=64 run "$photos" --model "$M" --no-report -o "$tmp/full" ) > /dev/null 2> "$tmp/full.err"
-check '[ $? = 1 ] && grep -q "File too large\|write failed" "$tmp/full.err"'
-run "$tmp/full" > /dev/null 2> "$tmp/full2.err"; check '[ $? = 0 ]'
-check 'grep -q "detect .*up to date" "$tmp/full2.err" && cmp -s "$tmp/full/rig.glb" "$tmp/ref/rig.glb"'
-
-# -o NAME.glb: that file, NAME_shapes/ beside it, the run's folder NAME_run/.
-run "$tmp/named/face.glb" > /dev/null 2>&1; check '[ $? = 0 ]'
+run "$tmp/named/face.glb" > /dev/null 2> "$tmp/busy.err"
+check '[ $? = 1 ] && grep -q "another frig run is working in $tmp/named/face_run" "$tmp/busy.err"'
+wait $pid; check '[ $? = 0 ]'
 check 'cmp -s "$tmp/named/face.glb" "$tmp/ref/rig.glb" && [ -f "$tmp/named/face_shapes/jawOpen.obj" ] && [ -s "$tmp/named/face_run/report.json" ]'
 
 # Too few usable photos: a sentence naming how many and why, exit 1.
 mkdir -p "$tmp/few" && cp "$photos/photo_000.jpg" "$photos/photo_001.jpg" "$tmp/few/" && cp "$photos/photo_001.jpg" "$tmp/few/copy.jpg"
-"$F" --threads 2 --set detect.detector=1 run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2> "$tmp/few.err"; check '[ $? = 1 ]'
+"$F" --threads 2 "${O[@]}" run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2> "$tmp/few.err"; check '[ $? = 1 ]'
 cat "$tmp/few.err" | tail -1
 check 'grep -q "stopped: 2 of 3 photos are usable after detect, and a rig needs at least 5 (run.min_photos): 1 duplicate" "$tmp/few.err"'
 check '[ ! -e "$tmp/fewout/rig.glb" ]'
-"$F" --quiet --threads 2 --set detect.detector=1 --set run.min_photos=2 run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2>&1
+"$F" --quiet --threads 2 "${O[@]}" --set run.min_photos=2 run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2>&1
 check '[ $? = 0 ] && [ -s "$tmp/fewout/rig.glb" ]'
 exit $fail

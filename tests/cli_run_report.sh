@@ -21,7 +21,9 @@ photos="$tmp/synth/subject_00/photos"
 # Default detection (face-api's SSD where installed, so the identity step has descriptors).
 ffmpeg -nostdin -v error -framerate 4 -i "$photos/photo_%03d.jpg" -vf "fps=8" -c:v mjpeg -q:v 3 "$tmp/clip.mkv" || exit 1
 
-"$F" --threads 2 --set export.texture_size=64 --set run.video_frames=8 run "$photos" "$tmp/clip.mkv" --model "$M" \
+# A coarse sfs and two outer rounds keep it quick.
+O=(--set export.texture_size=64 --set sfs.texture_size=128 --set sfs.shape_size=64 --set sfs.face_px=100 --set retarget.iterations=2)
+"$F" --threads 2 "${O[@]}" --set run.video_frames=8 run "$photos" "$tmp/clip.mkv" --model "$M" \
   -o "$tmp/out" > "$tmp/run.out" 2> "$tmp/run.err"
 check '[ $? = 0 ]'
 cat "$tmp/run.err"
@@ -46,7 +48,10 @@ report = json.load(open(os.path.join(out, "report.json")))
 n = len(report["photos"])
 thumbs = len(re.findall(r'src="report/thumbs/\d+\.jpg"', html))
 for need in ('id="rig"', 'id="errors"', 'id="coverage"', 'id="stages"', 'id="photos"', 'class="expr"', "report/expressions.png",
-             "report/neutral_front.png", "Landmark error", "Fit error per photo", "<svg"):
+             "report/neutral_front.png", "Landmark error", "Fit error per photo", "<svg", 'id="shape"',
+             "overlays/retarget/rigs.png", "textures/albedo.png", "Shape-from-shading error per photo",
+             "Cloud distance to the personalized rig", 'src="report/sfs/', ">shape from shading</a>",
+             "sfs and retargeting included"):
     if need not in html:
         bad.append("no " + need)
 if n != 16 or thumbs < n - 3:
@@ -66,8 +71,8 @@ check '! grep "CONSOLE" "$tmp/chromium.log" | grep -qi "error\|failed"'
 check '! grep -qi "net::ERR\|Failed to load resource" "$tmp/chromium.log"'
 # On a terminal: one bar redrawn in place, with the stage, its step, item i of n and the time.
 if command -v script > /dev/null; then
-  script -qec "'$F' --threads 2 --set export.eye_overlays=0 --set export.texture_size=64 --set run.video_frames=8 run '$photos' '$tmp/clip.mkv' --model '$M' -o '$tmp/out'" /dev/null > "$tmp/tty" 2>&1
-  check 'grep -q "\[7/7 report\] contact_sheet *\[[#.]*\] [0-9]*/56  0:[0-9][0-9]" "$tmp/tty"'
+  script -qec "'$F' --threads 2 ${O[*]} --set export.eye_overlays=0 --set run.video_frames=8 run '$photos' '$tmp/clip.mkv' --model '$M' -o '$tmp/out'" /dev/null > "$tmp/tty" 2>&1
+  check 'grep -q "\[9/9 report\] contact_sheet *\[[#.]*\] [0-9]*/56  0:[0-9][0-9]" "$tmp/tty"'
   check 'grep -q "identity .*up to date" "$tmp/tty" && ! grep -q "export .*up to date" "$tmp/tty"'
 fi
 exit $fail
