@@ -7,10 +7,17 @@
  * truth's class maps, the share of bad pixels (cast shadow, highlight, occluder, hair) that the
  * skin mask and region selection remove and of good skin they keep; the neutral of the rig with
  * the shared displacement against the true neutral; and the stage's time.
+ * --stereo W adds the photos' own gradients to the shared shape (the multi-view term, gain W),
+ * --joint-pose N N steps of each photo's pose against the shared shape per round, --joint-albedo
+ * the texels' albedo solved with the shared shape, --shape-iterations N and --shape-sigma S its
+ * Gauss-Newton iterations per round and residual scale, --shape-oracle DEG the shared shape
+ * from the photos whose fit is within DEG of the truth's rotation only; --pose-noise DEG (with
+ * --truth-pose) turns each photo's true rotation by DEG about an axis of its own (docs/sfs.md).
  * --truth-pose replaces the fit's pose and camera by the truth's (--truth-weights the
  * expression weights too): where the error lives.
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
- *                 [--truth-weights] [--quiet] */
+ *                 [--truth-weights] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo]
+ *                 [--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] [--pose-noise DEG] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -29,6 +36,7 @@
 #include "sfs/sfs_run.h"
 #include "sfs_truth.h"
 #include "workspace/photoset.h"
+#include "mesh/point_align.h"
 
 static double now(void) {
     struct timespec ts;
@@ -62,13 +70,42 @@ static void aligned(frig_ctx *ctx, const fr_tri_tree *ix, const double *p, int n
     free(d);
 }
 
-static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int weights) {
+
+/* b's error against a (n vertices) after the similarity alignment, split along a's vertex
+ * normals: the mean |normal part| and |tangential part| (features in the wrong place), mm. */
+static void split_error(const float *a, const float *an, const float *b, int n, double *normal, double *tangential) {
+    double R[9], t[3], scale, sn = 0, stg = 0;
+    *normal = *tangential = NAN;
+    if (n <= 0 || !fr_point_align(a, b, n, 1, R, t, &scale)) return;
+    for (int v = 0; v < n; v++) {
+        double e[3], en = 0, et = 0;
+        for (int i = 0; i < 3; i++) {
+            double x = t[i];
+            for (int j = 0; j < 3; j++) x += scale * R[3 * i + j] * b[3 * v + j];
+            e[i] = x - a[3 * v + i];
+            en += e[i] * an[3 * v + i];
+        }
+        for (int i = 0; i < 3; i++) et += (e[i] - en * an[3 * v + i]) * (e[i] - en * an[3 * v + i]);
+        sn += fabs(en), stg += sqrt(et);
+    }
+    *normal = 1e3 * sn / n, *tangential = 1e3 * stg / n;
+}
+
+static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int weights, double noise_deg) {
     for (size_t i = 0; i < set->count; i++) {
         fr_photo *p = &set->photos[i];
         bench_truth tr;
         memset(&tr, 0, sizeof tr);
         if (p->fitted && bench_truth_load(p->path, truth_rig, &tr) && tr.has_face) {
             memcpy(p->fit_rotation, tr.R, sizeof tr.R);
+            if (noise_deg > 0) {
+                /* a turn of noise_deg about an axis drawn per photo (the same axes on every run) */
+                double a[3], l = 0, dR[9];
+                for (int q = 0; q < 3; q++) a[q] = sin(12.9898 * (double)(i + 1) * (q + 1) + 78.233 * q), l += a[q] * a[q];
+                for (int q = 0; q < 3; q++) a[q] *= noise_deg * M_PI / 180 / sqrt(l);
+                fr_rotation_from_axis_angle(a, dR);
+                fr_mat3_mul(dR, tr.R, p->fit_rotation);
+            }
             memcpy(p->fit_translation, tr.t, sizeof tr.t);
             p->fit_focal = tr.f;
             for (int e = 0; e < set->n_expressions && weights; e++) {
@@ -83,11 +120,14 @@ static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int we
 int main(int argc, char **argv) {
     if (argc < 3) {
         fprintf(stderr, "usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose] "
-                        "[--truth-weights] [--quiet]\n");
+                        "[--truth-weights] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo] "
+                        "[--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] "
+                        "[--pose-noise DEG]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
-    int truth_pose = 0, truth_weights = 0, quiet = 0;
+    int truth_pose = 0, truth_weights = 0, quiet = 0, pose_steps = 0, joint_albedo = 0, shape_iterations = 0;
+    double w_stereo = 0, shape_sigma = 0, oracle_deg = 0, pose_noise = 0;
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
             if (bench_set_param(ctx, argv[++i])) return 2;
@@ -95,6 +135,13 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--truth-pose")) truth_pose = 1;
         else if (!strcmp(argv[i], "--truth-weights")) truth_pose = truth_weights = 1;
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;
+        else if (!strcmp(argv[i], "--stereo") && i + 1 < argc) w_stereo = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--joint-pose") && i + 1 < argc) pose_steps = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--joint-albedo")) joint_albedo = 1;
+        else if (!strcmp(argv[i], "--shape-oracle") && i + 1 < argc) oracle_deg = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--pose-noise") && i + 1 < argc) pose_noise = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--shape-iterations") && i + 1 < argc) shape_iterations = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--shape-sigma") && i + 1 < argc) shape_sigma = atof(argv[++i]);
         else {
             fprintf(stderr, "unknown argument %s\n", argv[i]);
             return 2;
@@ -108,9 +155,26 @@ int main(int argc, char **argv) {
     snprintf(path, sizeof path, "%s/rig/rig.frigrig", argv[1]);
     if (frig_rig_load(ctx, path, &truth_rig)) goto fail;
     if (frig_photoset_load(ctx, argv[2], &set)) goto fail;
-    if (truth_pose) set_truth_fits(truth_rig, set, truth_weights);
+    if (truth_pose) set_truth_fits(truth_rig, set, truth_weights, pose_noise);
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
+    st.w_stereo = w_stereo, st.pose_steps = pose_steps, st.joint_albedo = joint_albedo;
+    st.shape_iterations = shape_iterations, st.shape_sigma = shape_sigma;
+    uint8_t *oracle = NULL;
+    if (oracle_deg > 0) {
+        /* the shared shape from the photos whose fit is within oracle_deg of the truth's rotation */
+        oracle = calloc(set->count + 1, 1);
+        int used = 0;
+        for (size_t i = 0; i < set->count; i++) {
+            bench_truth tr;
+            memset(&tr, 0, sizeof tr);
+            if (set->photos[i].fitted && bench_truth_load(set->photos[i].path, truth_rig, &tr) && tr.has_face)
+                used += oracle[i] = fr_rotation_angle_deg(set->photos[i].fit_rotation, tr.R) < oracle_deg;
+            bench_truth_free(&tr);
+        }
+        printf("the shared shape from %d photos (fit rotation error < %.1f deg)\n", used, oracle_deg);
+        st.shape_use = oracle;
+    }
     double t0 = now();
     fr_sfs_run run;
     if (fr_sfs_run_all(ctx, rig, set, &st, &run)) goto fail;
@@ -130,6 +194,14 @@ int main(int argc, char **argv) {
         }
         printf("neutral (narrow face, aligned): rig %.3f mm, with the shared displacement %.3f mm (displacement RMS %.3f mm)\n",
                1e3 * before, 1e3 * fr_aligned_mean_distance(frig_rig_neutral(truth_rig), a, nf), 1e3 * sqrt(rms / nf));
+        float *tn = malloc(sizeof(float) * 3 * (size_t)nv);
+        fr_mesh_vertex_normals(frig_rig_neutral(truth_rig), nv, run.mesh.tris, run.mesh.nt, tn);
+        double n0, t0s, n1, t1s;
+        split_error(frig_rig_neutral(truth_rig), tn, frig_rig_neutral(rig), nf, &n0, &t0s);
+        split_error(frig_rig_neutral(truth_rig), tn, a, nf, &n1, &t1s);
+        printf("neutral error along the true normals / tangential (mean |part|): rig %.3f / %.3f mm, with the shared "
+               "displacement %.3f / %.3f mm\n", n0, t0s, n1, t1s);
+        free(tn);
         free(a), free(nr);
     }
     fr_sfs_mesh tm;
@@ -144,7 +216,9 @@ int main(int argc, char **argv) {
                "reference", "fit (same pixels)");
     double *mc = malloc(sizeof(double) * (size_t)(run.n + 1)), *mr = malloc(sizeof(double) * (size_t)(run.n + 1));
     double *mf = malloc(sizeof(double) * (size_t)(run.n + 1)), *rb = malloc(sizeof(double) * (size_t)(run.n + 1));
-    double *ra = malloc(sizeof(double) * (size_t)(run.n + 1));
+    double *ra = malloc(sizeof(double) * (size_t)(run.n + 1)), *rj = malloc(sizeof(double) * (size_t)(run.n + 1));
+    double *qw = malloc(sizeof(double) * 3 * (size_t)(run.n + 1)), *Rtrue = malloc(sizeof(double) * 9 * (size_t)(run.n + 1));
+    double *Rfit = malloc(sizeof(double) * 9 * (size_t)(run.n + 1));
     long bad = 0, good = 0, bad_skin = 0, bad_kept = 0, good_skin = 0, good_kept = 0;
     int rows = 0;
     for (int k = 0; k < run.n; k++) {
@@ -186,7 +260,7 @@ int main(int argc, char **argv) {
         double *pc = malloc(sizeof(double) * 3 * npx), *pr = malloc(sizeof(double) * 3 * npx);
         double *pf = malloc(sizeof(double) * 3 * npx);
         int nc = points(v, v->z, sel, R2, t2, pc), nr = points(v, v->z_ref, sel, v->R, v->t, pr);
-        int nf = points(v, v->z_fit, sel, v->R, v->t, pf);
+        int nf = points(v, v->z_fit, sel, v->R_fit, v->t_fit, pf);
         fr_sfs_mesh_eval(&tm, tr.weights, txyz);
         fr_tri_tree *ix = NULL;
         fr_tri_tree_build(ctx, txyz, ftris, nft, &ix);
@@ -195,6 +269,15 @@ int main(int argc, char **argv) {
         double yaw, pitch, roll;
         fr_rotation_to_euler(tr.R, &yaw, &pitch, &roll);
         rb[rows] = fr_rotation_angle_deg(p->fit_rotation, tr.R), ra[rows] = fr_rotation_angle_deg(R2, tr.R);
+        rj[rows] = fr_rotation_angle_deg(v->R, tr.R);
+        {
+            double Rt[9], Q[9], w[3];
+            fr_mat3_transpose(tr.R, Rt);
+            fr_mat3_mul(Rt, p->fit_rotation, Q);
+            fr_rotation_to_axis_angle(Q, w);
+            memcpy(qw + 3 * rows, w, sizeof w), memcpy(Rtrue + 9 * rows, tr.R, sizeof tr.R);
+            memcpy(Rfit + 9 * rows, p->fit_rotation, sizeof tr.R);
+        }
         if (!quiet)
             printf("%-14s %6.1f %6.2f %6.2f %5d | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f\n", base,
                    yaw * 57.29578, rb[rows], ra[rows], nc, c[0], c[1], c[2], r[0], r[1], r[2], f[0], f[1], f[2]);
@@ -214,13 +297,29 @@ int main(int argc, char **argv) {
     printf("%d photos scored; per-photo mean error, mean (median) over photos: cloud %.3f (%.3f) mm, reference %.3f (%.3f), "
            "fit %.3f (%.3f); cloud / fit %.3f\n",
            rows, a[0], a[1], b[0], b[1], d[0], d[1], d[0] > 0 ? a[0] / d[0] : NAN);
-    printf("rotation error: fit mean %.2f (median %.2f) deg, refined mean %.2f (median %.2f) deg\n", e[0], e[1], g[0], g[1]);
+    double h[3], wm[3] = {0, 0, 0}, Qm[9], cm[3];
+    /* the fit's turn common to all photos (a head-frame rotation: a gauge for the shared solve) */
+    for (int k = 0; k < rows; k++)
+        for (int q = 0; q < 3; q++) wm[q] += qw[3 * k + q] / rows;
+    fr_rotation_from_axis_angle(wm, Qm);
+    for (int k = 0; k < rows; k++) {
+        double RQ[9];
+        fr_mat3_mul(Rtrue + 9 * k, Qm, RQ);
+        qw[k] = fr_rotation_angle_deg(Rfit + 9 * k, RQ);
+    }
+    fr_error_stats(qw, rows, &cm[0], &cm[1], &cm[2]);
+    printf("the fit's rotation error after its common turn (%.2f deg): mean %.2f (median %.2f) deg\n",
+           57.29578 * sqrt(wm[0] * wm[0] + wm[1] * wm[1] + wm[2] * wm[2]), cm[0], cm[1]);
+    fr_error_stats(rj, rows, &h[0], &h[1], &h[2]);
+    printf("rotation error: fit mean %.2f (median %.2f) deg, the shared solve's %.2f (%.2f), refined by ICP %.2f (%.2f) deg\n",
+           e[0], e[1], h[0], h[1], g[0], g[1]);
     if (bad + good)
         printf("region selection: bad pixels (shadow, highlight, occluder, hair) removed %.1f%% by the skin mask, %.1f%% "
                "with eq. 5.15 (of %ld); good skin kept %.1f%% by the skin mask, %.1f%% with eq. 5.15 (of %ld)\n",
                100.0 * bad_skin / (bad ? bad : 1), 100.0 * bad_kept / (bad ? bad : 1), bad,
                100.0 * good_skin / (good ? good : 1), 100.0 * good_kept / (good ? good : 1), good);
-    free(mc), free(mr), free(mf), free(rb), free(ra), free(txyz), free(ftris);
+    free(oracle);
+    free(mc), free(mr), free(mf), free(rb), free(ra), free(rj), free(qw), free(Rtrue), free(Rfit), free(txyz), free(ftris);
     fr_sfs_mesh_free(&tm);
     fr_sfs_run_free(&run);
     frig_photoset_free(set), frig_rig_free(rig), frig_rig_free(truth_rig), frig_ctx_free(ctx);

@@ -3,7 +3,8 @@
  * the lighting fit, the depth solver on a problem its own model made, and the whole stage on a
  * small synthetic subject: cloud error against the true surface below floors measured on
  * synthetic subjects, an over-exposed photo sfs_failed, results in report.json read back,
- * the same clouds whatever the thread count. */
+ * the same clouds whatever the thread count; the shared shape's joint pose (with the photos'
+ * own gradients) brings fits turned by 4 degrees toward the truth. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -18,6 +19,7 @@
 #include "raster/sh_lighting.h"
 #include "sfs/sfs.h"
 #include "sfs/sfs_depth.h"
+#include "sfs/sfs_run.h"
 #include "skin/skin.h"
 #include "skin/slic.h"
 #include "testing.h"
@@ -303,18 +305,25 @@ static double cloud_error(const scene *sc, const frig_clouds *cl, int p) {
     return 1e3 * mean;
 }
 
-static void test_stage(void) {
+/* The scene in a temporary folder 'name'; 0 (skipped) without the model. */
+static int scene_in(const char *name, scene *sc, const char **dir) {
     frig_model *model = fixture_model(ctx);
     if (!model) {
         test_skip("the ICT model is not available");
-        return;
+        return 0;
     }
     frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_IMAGE_SIZE, 256);
     frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_RIG_OBJ, 0);
-    const char *dir = test_temp_dir("sfs_stage");
-    scene sc;
-    CHECK(make_scene(model, dir, &sc));
+    *dir = test_temp_dir(name);
+    CHECK(make_scene(model, *dir, sc));
     frig_model_free(model);
+    return 1;
+}
+
+static void test_stage(void) {
+    const char *dir;
+    scene sc;
+    if (!scene_in("sfs_stage", &sc, &dir)) return;
     frig_clouds *cl = NULL, *cl1 = NULL;
     frig_image *albedo = NULL;
     char overlays[4200];
@@ -390,6 +399,47 @@ static void test_stage(void) {
     free_scene(&sc);
 }
 
+/* Poses turned by 4 degrees (about y and x, zero mean: a turn common to all photos is free): the
+ * shared solve's pose steps (with the multi-view term and the joint albedo, residual scale 0.1)
+ * against the shared surface and albedo bring them back toward the truth. */
+static void test_joint_pose(void) {
+    const char *dir;
+    scene sc;
+    if (!scene_in("sfs_joint_pose", &sc, &dir)) return;
+    double Rt[8][9];
+    for (int p = 0; p < sc.photos; p++) {
+        fr_photo *ph = &sc.set->photos[p];
+        double w[3] = {0, 0, 0}, dR[9], R[9];
+        w[p % 2 ? 0 : 1] = (p % 4 < 2 ? 4.0 : -4.0) * M_PI / 180; /* zero mean: a common turn is the gauge */
+        memcpy(Rt[p], ph->fit_rotation, sizeof Rt[p]);
+        fr_rotation_from_axis_angle(w, dR);
+        fr_mat3_mul(dR, ph->fit_rotation, R);
+        memcpy(ph->fit_rotation, R, sizeof R);
+    }
+    fr_sfs_settings st;
+    fr_sfs_settings_from_ctx(ctx, &st);
+    st.w_stereo = 1, st.pose_steps = 3, st.joint_albedo = 1, st.shape_sigma = 0.1;
+    fr_sfs_run run;
+    CHECK(fr_sfs_run_all(ctx, sc.rig, sc.set, &st, &run) == FRIG_OK);
+    double before = 0, after = 0;
+    int n = 0;
+    for (int k = 0; k < run.n; k++) {
+        if (!run.ok[k]) continue;
+        size_t p = run.photo[k];
+        before += fr_rotation_angle_deg(sc.set->photos[p].fit_rotation, Rt[p]);
+        after += fr_rotation_angle_deg(run.views[k].R, Rt[p]);
+        n++;
+    }
+    before /= n ? n : 1, after /= n ? n : 1;
+    printf("joint pose: rotation error %.2f -> %.2f deg over %d photos\n", before, after, n);
+    CHECK(n == 7);
+    /* measured 4.00 -> 3.11 deg (3.87 with the albedo alternated and sigma 0.03): the pose steps
+     * move the poses toward the truth, slowly (docs/sfs.md) */
+    CHECK(after < 0.9 * before);
+    fr_sfs_run_free(&run);
+    free_scene(&sc);
+}
+
 int main(void) {
     ctx = frig_ctx_create();
     test_sh_gradient();
@@ -398,6 +448,7 @@ int main(void) {
     test_lighting();
     test_depth_solver();
     test_stage();
+    test_joint_pose();
     frig_ctx_free(ctx);
     return test_result("test_sfs");
 }

@@ -31,6 +31,13 @@ typedef struct fr_sfs_settings {
     int shape_size;       /* side of the UV grid of the shared shape */
     int pose;             /* 1: refine the pose against the recovered depth (ICP) */
     int transfer;         /* Reinhard transfer of the albedo to each photo: 0 off, 1 means, 2 means and spreads */
+    /* the shared shape's experimental terms (no sfs.* parameter; bench/sfs_eval sets them; docs/sfs.md) */
+    double w_stereo;      /* each photo's own image gradient along a texel's projected path (0: shading only) */
+    int pose_steps;       /* per round, Levenberg-Marquardt steps of each photo's pose against the shared shape */
+    int joint_albedo;     /* 1: the texels' albedo solved with the shared displacement, not alternated with it */
+    int shape_iterations; /* Gauss-Newton iterations of the shared shape per round (0: its default, 4) */
+    double shape_sigma;   /* the shared shape's residual scale (0: its default, 0.03) */
+    const uint8_t *shape_use; /* per photo of the set: used by the shared shape (NULL: every usable photo) */
 } fr_sfs_settings;
 
 void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s);
@@ -61,6 +68,7 @@ typedef struct fr_sfs_view {
     double x0, y0, s;    /* crop pixel (i, j)'s centre is photo point (x0 + (i + 0.5) / s - 0.5, ...) */
     fr_camera cam;       /* the crop's camera */
     double R[9], t[3];   /* the pose (head -> camera) the view was rendered with */
+    double R_fit[9], t_fit[3]; /* the fit's pose (z_fit's) */
     double *weights;     /* rig weights (m->shapes) */
     float *xyz_cam;      /* posed vertices, camera frame (3 nv) */
     float *vn_cam;       /* their unit normals, camera frame (3 nv) */

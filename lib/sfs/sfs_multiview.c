@@ -11,7 +11,14 @@
  * alternating with the albedo a(t) (closed form per texel) and each photo's lighting S_k (least
  * squares, eq. 5.3-5.5). One photo constrains a normal only along its light; photos under other
  * lights and head turns constrain the rest, and the shared displacement is integrable by
- * construction. The normal equations have the texel grid's small stencil (CHOLMOD, one analysis). */
+ * construction. The normal equations have the texel grid's small stencil (CHOLMOD, one analysis).
+ * Options, off by default (docs/sfs.md has the measurements): the multi-view term (the photo's own
+ * gradient along each texel's projected path, I(D) = I + dI/dD (D - D_sampled), so the photos
+ * must agree on where the surface is as well as on its shading); the joint albedo (each texel's
+ * albedo eliminated from the Gauss-Newton step by its Schur complement, which has the same
+ * stencil, and recovered by back-substitution, instead of alternated with D); and each photo's
+ * pose refined against the shared surface and albedo after each round (6 x 6 Levenberg-Marquardt,
+ * the views drawn again at their new poses). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -36,6 +43,9 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
     o->w_smooth = 30.0;
     o->w_anchor = 0.05;
     o->max_mm = 12.0;
+    o->w_stereo = 0.0;
+    o->pose_steps = 0;
+    o->joint_albedo = 0;
 }
 
 /* One photo's view of the texels: the rig's texel points and normals at its expression, and
@@ -43,6 +53,7 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
 typedef struct photo_texels {
     float *X, *n;   /* 3 per texel, head frame */
     float *I;       /* 3 per texel */
+    float *dI;      /* 3 per texel: d I / d D (per mm) through the projection (the multi-view term) */
     float *w;       /* per texel: 0 = not seen, else the view cosine */
 } photo_texels;
 
@@ -58,8 +69,11 @@ typedef struct mv {
     signed char *sign;  /* orientation of the grid's cross product against the normal */
     photo_texels *pt;
     double *D;          /* per texel, mm */
+    double *D_s;        /* per texel: the displacement the photos were sampled at */
     double *D_try, *delta, *rhs, *H;  /* H: 6 per texel */
     float *albedo;      /* 3 per texel */
+    float *albedo_try;  /* 3 per texel */
+    double *Haa, *HaD, *ga; /* joint albedo: per texel 3, 9 (3 x the stencil's 3) and 3 */
 } mv;
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
@@ -115,7 +129,20 @@ static void photo_sample(mv *s, int k) {
         if (cosv < MIN_COS) continue;
         double smp[3];
         fr_sfs_bilinear(v->I, v->w, v->h, xy, smp);
-        for (int c = 0; c < 3; c++) p->I[3 * (size_t)t + c] = (float)smp[c];
+        for (int c = 0; c < 3; c++) p->I[3 * (size_t)t + c] = (float)smp[c], p->dI[3 * (size_t)t + c] = 0;
+        if (s->o->w_stereo > 0) {
+            /* the image's gradient along the texel's projected path as D changes */
+            double J[6], gx[3], gy[3], a[3], b[3], xa[2] = {xy[0] + 1, xy[1]}, xb[2] = {xy[0] - 1, xy[1]};
+            fr_camera_project_jacobian(&v->cam, X, J);
+            fr_sfs_bilinear(v->I, v->w, v->h, xa, a), fr_sfs_bilinear(v->I, v->w, v->h, xb, b);
+            for (int c = 0; c < 3; c++) gx[c] = 0.5 * (a[c] - b[c]);
+            xa[0] = xb[0] = xy[0], xa[1] = xy[1] + 1, xb[1] = xy[1] - 1;
+            fr_sfs_bilinear(v->I, v->w, v->h, xa, a), fr_sfs_bilinear(v->I, v->w, v->h, xb, b);
+            for (int c = 0; c < 3; c++) gy[c] = 0.5 * (a[c] - b[c]);
+            double du = MM * (J[0] * nc[0] + J[1] * nc[1] + J[2] * nc[2]);
+            double dv = MM * (J[3] * nc[0] + J[4] * nc[1] + J[5] * nc[2]);
+            for (int c = 0; c < 3; c++) p->dI[3 * (size_t)t + c] = (float)(s->o->w_stereo * (gx[c] * du + gy[c] * dv));
+        }
         p->w[t] = (float)(cosv * v->photo_weight);
     }
 }
@@ -188,21 +215,28 @@ static void shade(const fr_sfs_view *v, const double N[3], double S[3], double G
     }
 }
 
+/* What photo k shows at texel t for displacement D(t), linearized about the sampled one. */
+static void observed(const mv *s, const photo_texels *p, const double *D, int t, double I[3]) {
+    double dd = D[t] - s->D_s[t];
+    for (int c = 0; c < 3; c++) I[c] = p->I[3 * (size_t)t + c] + p->dI[3 * (size_t)t + c] * dd;
+}
+
 static double obs_scale(const mv *s, const float *I) {
     double m = (I[0] + I[1] + I[2]) / 3.0;
     return s->o->sigma * (m > INTENSITY_FLOOR ? m : INTENSITY_FLOOR);
 }
 
 /* The data energy of texel t over all photos (robust), with displacement D. */
-static double texel_energy(const mv *s, const double *D, int t) {
+static double texel_energy(const mv *s, const double *D, const float *albedo, int t) {
     double e = 0, N[3], S[3];
     for (int k = 0; k < s->nviews; k++) {
         const photo_texels *p = &s->pt[k];
         if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, D, k, t, N, NULL)) continue;
         shade(&s->views[k], N, S, NULL);
-        const float *I = p->I + 3 * (size_t)t;
-        double sc = obs_scale(s, I);
-        for (int c = 0; c < 3; c++) e += p->w[t] * tukey_rho((s->albedo[3 * t + c] * S[c] - I[c]) / sc);
+        double I[3];
+        observed(s, p, D, t, I);
+        double sc = obs_scale(s, p->I + 3 * (size_t)t);
+        for (int c = 0; c < 3; c++) e += p->w[t] * tukey_rho((albedo[3 * t + c] * S[c] - I[c]) / sc);
     }
     return e;
 }
@@ -222,10 +256,10 @@ static int curv(const mv *s, int t, int dir, int nb[3]) {
     return 1;
 }
 
-static double energy(const mv *s, const double *D) {
+static double energy(const mv *s, const double *D, const float *albedo) {
     double e = 0;
     for (int t = 0; t < s->nt; t++) {
-        e += texel_energy(s, D, t) + s->o->w_anchor * D[t] * D[t];
+        e += texel_energy(s, D, albedo, t) + s->o->w_anchor * D[t] * D[t];
         int nb[3];
         for (int dir = 0; dir < 2; dir++)
             if (curv(s, t, dir, nb)) {
@@ -236,23 +270,56 @@ static double energy(const mv *s, const double *D) {
     return e;
 }
 
-/* Per texel: the 6 Hessian entries and 3 gradient entries of its data terms (all photos). */
+/* Per texel: the 6 Hessian entries and 3 gradient entries of its data terms (all photos); with
+ * the joint albedo, the texel's albedo eliminated (its Schur complement has the same stencil)
+ * and its terms kept for the back-substitution. */
 static void texel_normal_equations(const mv *s, int t, double H[6], double g[3]) {
     memset(H, 0, 6 * sizeof *H), memset(g, 0, 3 * sizeof *g);
+    double *Haa = s->Haa + 3 * (size_t)t, *HaD = s->HaD + 9 * (size_t)t, *ga = s->ga + 3 * (size_t)t;
+    memset(Haa, 0, 3 * sizeof *Haa), memset(HaD, 0, 9 * sizeof *HaD), memset(ga, 0, 3 * sizeof *ga);
     double N[3], dN[3][3], S[3], G[3][3];
     for (int k = 0; k < s->nviews; k++) {
         const photo_texels *p = &s->pt[k];
         if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, s->D, k, t, N, dN)) continue;
         shade(&s->views[k], N, S, G);
-        const float *I = p->I + 3 * (size_t)t;
-        double sc = obs_scale(s, I);
+        double I[3];
+        observed(s, p, s->D, t, I);
+        double sc = obs_scale(s, p->I + 3 * (size_t)t);
         for (int c = 0; c < 3; c++) {
             double a = s->albedo[3 * t + c], r = (a * S[c] - I[c]) / sc, w = p->w[t] * tukey_w(r);
             double j[3];
             for (int q = 0; q < 3; q++) j[q] = a / sc * (G[c][0] * dN[q][0] + G[c][1] * dN[q][1] + G[c][2] * dN[q][2]);
+            j[0] -= p->dI[3 * (size_t)t + c] / sc;
             H[0] += w * j[0] * j[0], H[1] += w * j[1] * j[0], H[2] += w * j[2] * j[0];
             H[3] += w * j[1] * j[1], H[4] += w * j[2] * j[1], H[5] += w * j[2] * j[2];
             for (int q = 0; q < 3; q++) g[q] += w * j[q] * r;
+            double ja = S[c] / sc;
+            Haa[c] += w * ja * ja, ga[c] += w * ja * r;
+            for (int q = 0; q < 3; q++) HaD[3 * c + q] += w * ja * j[q];
+        }
+    }
+    if (!s->o->joint_albedo) return;
+    for (int c = 0; c < 3; c++) {
+        if (!(Haa[c] > 0)) continue;
+        Haa[c] *= 1 + 1e-6;
+        const double *h = HaD + 3 * c, inv = 1.0 / Haa[c];
+        H[0] -= h[0] * h[0] * inv, H[1] -= h[1] * h[0] * inv, H[2] -= h[2] * h[0] * inv;
+        H[3] -= h[1] * h[1] * inv, H[4] -= h[2] * h[1] * inv, H[5] -= h[2] * h[2] * inv;
+        for (int q = 0; q < 3; q++) g[q] -= h[q] * ga[c] * inv;
+    }
+}
+
+/* The albedo step that goes with the displacement step (back-substitution). */
+static void albedo_step(mv *s, const double *dD) {
+    for (int t = 0; t < s->nt; t++) {
+        int r = s->right[t], d = s->down[t];
+        for (int c = 0; c < 3; c++) {
+            double v = s->albedo[3 * t + c], Haa = s->Haa[3 * (size_t)t + c];
+            if (r >= 0 && d >= 0 && Haa > 0) {
+                const double *h = s->HaD + 9 * (size_t)t + 3 * c;
+                v -= (s->ga[3 * (size_t)t + c] + h[0] * dD[t] + h[1] * dD[r] + h[2] * dD[d]) / Haa;
+            }
+            s->albedo_try[3 * t + c] = (float)(v > 0 ? v : 0);
         }
     }
 }
@@ -313,8 +380,9 @@ static void update_albedo(mv *s, int threads) {
                 if (!texel_normal(s, s->D, k, t, N, NULL))
                     for (int q = 0; q < 3; q++) N[q] = p->n[3 * t + q];
                 shade(&s->views[k], N, S, NULL);
-                const float *I = p->I + 3 * (size_t)t;
-                double sc = obs_scale(s, I);
+                double I[3];
+                observed(s, p, s->D, t, I);
+                double sc = obs_scale(s, p->I + 3 * (size_t)t);
                 for (int c = 0; c < 3; c++) {
                     double w = p->w[t] / (sc * sc);
                     if (pass) w *= tukey_w((s->albedo[3 * t + c] * S[c] - I[c]) / sc);
@@ -352,10 +420,147 @@ static void update_lighting(mv *s, int k, frig_ctx *ctx) {
     free(I), free(a), free(nc), free(w);
 }
 
+/* Photo k's pose term at (R, tv): the robust energy of its texels against the shared surface and
+ * albedo, sampling the photo at each texel's projection; with H (6 x 6, row-major) and g (6)
+ * when H is given, for the perturbation R' = exp([w]) R, t' = t + dt (w about the head's origin
+ * in camera axes). */
+static double pose_terms(const mv *s, int k, const double R[9], const double tv[3], double *H, double *g) {
+    const fr_sfs_view *v = &s->views[k];
+    const photo_texels *p = &s->pt[k];
+    if (H) memset(H, 0, 36 * sizeof *H), memset(g, 0, 6 * sizeof *g);
+    double e = 0;
+    for (int t = 0; t < s->nt; t++) {
+        double N[3], P[3], q[3], Xc[3], xy[2];
+        if (!(p->w[t] > 0) || !texel_normal(s, s->D, k, t, N, NULL)) continue;
+        for (int c = 0; c < 3; c++) P[c] = p->X[3 * t + c] + s->D[t] * MM * p->n[3 * t + c];
+        fr_mat3_apply(R, P, q);
+        for (int c = 0; c < 3; c++) Xc[c] = q[c] + tv[c];
+        if (!fr_camera_project(&v->cam, Xc, xy)) continue;
+        if (xy[0] < 1 || xy[1] < 1 || xy[0] > v->w - 2 || xy[1] > v->h - 2) continue;
+        double I[3], S[3], nc[3], y[FR_SH_COUNT], dy[3 * FR_SH_COUNT];
+        fr_sfs_bilinear(v->I, v->w, v->h, xy, I);
+        fr_mat3_apply(R, N, nc);
+        fr_sh_basis_gradient(nc, y, dy);
+        double sc = s->o->sigma * fmax((I[0] + I[1] + I[2]) / 3.0, INTENSITY_FLOOR);
+        double gx[3], gy[3], J[6];
+        if (H) {
+            double a[3], b[3], xa[2] = {xy[0] + 1, xy[1]}, xb[2] = {xy[0] - 1, xy[1]};
+            fr_sfs_bilinear(v->I, v->w, v->h, xa, a), fr_sfs_bilinear(v->I, v->w, v->h, xb, b);
+            for (int c = 0; c < 3; c++) gx[c] = 0.5 * (a[c] - b[c]);
+            xa[0] = xb[0] = xy[0], xa[1] = xy[1] + 1, xb[1] = xy[1] - 1;
+            fr_sfs_bilinear(v->I, v->w, v->h, xa, a), fr_sfs_bilinear(v->I, v->w, v->h, xb, b);
+            for (int c = 0; c < 3; c++) gy[c] = 0.5 * (a[c] - b[c]);
+            fr_camera_project_jacobian(&v->cam, Xc, J);
+        }
+        for (int c = 0; c < 3; c++) {
+            double sh = 0, gc[3] = {0, 0, 0};
+            for (int j = 0; j < FR_SH_COUNT; j++) {
+                sh += v->sh[c][j] * y[j];
+                for (int d = 0; d < 3; d++) gc[d] += v->sh[c][j] * dy[3 * j + d];
+            }
+            S[c] = sh > 0 ? sh : 0;
+            double a = s->albedo[3 * t + c], r = (a * S[c] - I[c]) / sc;
+            e += p->w[t] * tukey_rho(r);
+            if (!H) continue;
+            double u[3], jr[6], w = p->w[t] * tukey_w(r);
+            if (!(w > 0)) continue;
+            for (int d = 0; d < 3; d++) u[d] = J[d] * gx[c] + J[3 + d] * gy[c];
+            if (!(sh > 0)) gc[0] = gc[1] = gc[2] = 0;
+            /* d(a S)/dw = a (nc x gc), dI/dw = q x u, dI/dt = u */
+            for (int d = 0; d < 3; d++) {
+                int d1 = (d + 1) % 3, d2 = (d + 2) % 3;
+                jr[d] = (a * (nc[d1] * gc[d2] - nc[d2] * gc[d1]) - (q[d1] * u[d2] - q[d2] * u[d1])) / sc;
+                jr[3 + d] = -u[d] / sc;
+            }
+            for (int i = 0; i < 6; i++) {
+                g[i] += w * jr[i] * r;
+                for (int j = 0; j < 6; j++) H[6 * i + j] += w * jr[i] * jr[j];
+            }
+        }
+    }
+    return e;
+}
+
+/* A few Levenberg-Marquardt steps of photo k's pose against the shared surface and albedo. */
+static void update_pose(mv *s, int k, int steps) {
+    fr_sfs_view *v = &s->views[k];
+    double R[9], tv[3], H[36], g[6], mu = 1e-3;
+    memcpy(R, v->R, sizeof R), memcpy(tv, v->t, sizeof tv);
+    double e = pose_terms(s, k, R, tv, NULL, NULL);
+    for (int it = 0; it < steps; it++) {
+        pose_terms(s, k, R, tv, H, g);
+        int done = 0;
+        for (int tries = 0; tries < 6 && !done; tries++) {
+            double A[36], b[6];
+            memcpy(A, H, sizeof A);
+            for (int i = 0; i < 6; i++) A[7 * i] += mu * (H[7 * i] > 0 ? H[7 * i] : 1), b[i] = -g[i];
+            /* Cholesky of the 6 x 6 */
+            int ok = 1;
+            for (int i = 0; i < 6 && ok; i++) {
+                for (int j = 0; j <= i; j++) {
+                    double x = A[6 * i + j];
+                    for (int q = 0; q < j; q++) x -= A[6 * i + q] * A[6 * j + q];
+                    if (i == j) {
+                        if (!(x > 0)) ok = 0;
+                        else A[6 * i + i] = sqrt(x);
+                    } else A[6 * i + j] = x / A[6 * j + j];
+                }
+            }
+            if (!ok) {
+                mu *= 10;
+                continue;
+            }
+            for (int i = 0; i < 6; i++) {
+                for (int q = 0; q < i; q++) b[i] -= A[6 * i + q] * b[q];
+                b[i] /= A[6 * i + i];
+            }
+            for (int i = 5; i >= 0; i--) {
+                for (int q = i + 1; q < 6; q++) b[i] -= A[6 * q + i] * b[q];
+                b[i] /= A[6 * i + i];
+            }
+            double dR[9], R2[9], t2[3];
+            fr_rotation_from_axis_angle(b, dR);
+            fr_mat3_mul(dR, R, R2);
+            for (int c = 0; c < 3; c++) t2[c] = tv[c] + b[3 + c];
+            double e2 = pose_terms(s, k, R2, t2, NULL, NULL);
+            if (e2 < e) {
+                memcpy(R, R2, sizeof R), memcpy(tv, t2, sizeof tv);
+                e = e2, mu *= 0.3, done = 1;
+            } else mu *= 10;
+        }
+        if (!done) break;
+    }
+    memcpy(v->R, R, sizeof R), memcpy(v->t, tv, sizeof tv);
+}
+
 static void mv_free(mv *s) {
-    for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w);
-    free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_try), free(s->delta), free(s->rhs);
-    free(s->H), free(s->albedo);
+    for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w), free(s->pt[k].dI);
+    free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
+    free(s->H), free(s->albedo), free(s->albedo_try), free(s->Haa), free(s->HaD), free(s->ga);
+}
+
+/* Every photo's pose against the shared surface, then each view drawn again at its pose (the
+ * visibility that the next sampling reads). */
+static frig_status joint_pose(frig_ctx *ctx, mv *s, int threads) {
+    int T = s->uv->size;
+    float *disp = calloc((size_t)T * T, sizeof(float)), *vd = malloc(sizeof(float) * ((size_t)s->m->nv + 1));
+    frig_status st = !disp || !vd ? fr_nomem(ctx, "the joint pose") : FRIG_OK;
+    for (int t = 0; t < s->nt && !st; t++) disp[s->uv->texel[t]] = (float)(s->D[t] * MM);
+    if (!st) st = fr_sfs_vertex_displacement(ctx, s->m, disp, T, vd);
+    int failed = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int k = 0; k < s->nviews; k++) {
+        if (!s->use[k] || st) continue;
+        update_pose(s, k, s->o->pose_steps);
+        frig_ctx child;
+        fr_ctx_init_child(&child, ctx);
+        double R[9], t[3];
+        memcpy(R, s->views[k].R, sizeof R), memcpy(t, s->views[k].t, sizeof t);
+        if (fr_sfs_view_render(&child, s->m, &s->views[k], R, t, vd)) failed = 1;
+    }
+    if (failed && !st) st = fr_nomem(ctx, "the joint pose");
+    free(disp), free(vd);
+    return st;
 }
 
 frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_uv *uv, fr_sfs_view *views, int nviews,
@@ -367,9 +572,12 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     size_t nt = (size_t)s.nt + 1;
     s.pt = calloc((size_t)nviews + 1, sizeof *s.pt);
     s.right = malloc(sizeof(int) * nt), s.down = malloc(sizeof(int) * nt), s.sign = malloc(nt);
-    s.D = calloc(nt, sizeof(double)), s.D_try = malloc(sizeof(double) * nt), s.delta = malloc(sizeof(double) * 3 * nt);
+    s.D = calloc(nt, sizeof(double)), s.D_s = calloc(nt, sizeof(double)), s.D_try = malloc(sizeof(double) * nt), s.delta = malloc(sizeof(double) * 3 * nt);
     s.rhs = malloc(sizeof(double) * nt), s.H = malloc(sizeof(double) * 6 * nt), s.albedo = malloc(sizeof(float) * 3 * nt);
-    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_try || !s.delta || !s.rhs || !s.H || !s.albedo
+    s.albedo_try = malloc(sizeof(float) * 3 * nt), s.Haa = malloc(sizeof(double) * 3 * nt);
+    s.HaD = malloc(sizeof(double) * 9 * nt), s.ga = malloc(sizeof(double) * 3 * nt);
+    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs || !s.H || !s.albedo ||
+                         !s.albedo_try || !s.Haa || !s.HaD || !s.ga
                          ? fr_nomem(ctx, "the multi-view solve")
                          : FRIG_OK;
     for (int k = 0; k < nviews && !st; k++) {
@@ -377,7 +585,8 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         if (!use[k]) continue;
         p->X = malloc(sizeof(float) * 3 * nt), p->n = malloc(sizeof(float) * 3 * nt);
         p->I = malloc(sizeof(float) * 3 * nt), p->w = calloc(nt, sizeof(float));
-        if (!p->X || !p->n || !p->I || !p->w) st = fr_nomem(ctx, "the multi-view solve");
+        p->dI = calloc(3 * nt, sizeof(float));
+        if (!p->X || !p->n || !p->I || !p->w || !p->dI) st = fr_nomem(ctx, "the multi-view solve");
     }
     for (int t = 0; t < s.nt && !st; t++) {
         int x = uv->texel[t] % T, y = uv->texel[t] / T;
@@ -409,8 +618,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
         for (int k = 0; k < nviews; k++)
             if (use[k]) photo_sample(&s, k);
+        memcpy(s.D_s, s.D, sizeof(double) * (size_t)s.nt);
         update_albedo(&s, threads);
-        double e = energy(&s, s.D), mu = -1;
+        double e = energy(&s, s.D, s.albedo), mu = -1;
         for (int it = 0; it < o->iterations && !st; it++) {
             for (int tries = 0; tries < 5 && !st; tries++) {
                 if (mu < 0) {
@@ -428,9 +638,11 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
                     double d = s.D[t] + s.delta[t];
                     s.D_try[t] = d > o->max_mm ? o->max_mm : d < -o->max_mm ? -o->max_mm : d;
                 }
-                double e2 = energy(&s, s.D_try);
+                if (o->joint_albedo) albedo_step(&s, s.delta);
+                double e2 = energy(&s, s.D_try, o->joint_albedo ? s.albedo_try : s.albedo);
                 if (e2 < e) {
                     memcpy(s.D, s.D_try, sizeof(double) * (size_t)s.nt);
+                    if (o->joint_albedo) memcpy(s.albedo, s.albedo_try, sizeof(float) * 3 * (size_t)s.nt);
                     e = e2;
                     mu *= 0.3;
                     break;
@@ -450,6 +662,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
             fr_ctx_init_child(&child, ctx);
             update_lighting(&s, k, &child);
         }
+        if (o->pose_steps > 0 && !st) st = joint_pose(ctx, &s, threads);
     }
     if (!st) {
         memset(disp, 0, sizeof(float) * (size_t)T * T);

@@ -16,6 +16,9 @@ typedef struct fr_sfs_multiview_options {
     double w_smooth;  /* second differences of the displacement (per texel, mm) */
     double w_anchor;  /* displacement held to zero (per texel, mm) */
     double max_mm;    /* the displacement is clamped to +-this */
+    int pose_steps;   /* per round, Levenberg-Marquardt steps of each photo's pose against the shared surface */
+    int joint_albedo; /* 1: the texels' albedo solved with the displacement (eliminated per texel), not alternated */
+    double w_stereo;  /* the photos' own gradients along each texel's projected path (0: shading only) */
 } fr_sfs_multiview_options;
 
 void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o);

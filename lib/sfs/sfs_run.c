@@ -230,8 +230,17 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
         if (!disp || !vdisp) s = fr_nomem(ctx, "the multi-view solve");
         fr_sfs_multiview_options mo;
         fr_sfs_multiview_options_default(&mo);
+        mo.w_stereo = st->w_stereo;
+        mo.pose_steps = st->pose_steps;
+        mo.joint_albedo = st->joint_albedo;
+        if (st->shape_iterations > 0) mo.iterations = st->shape_iterations;
+        if (st->shape_sigma > 0) mo.sigma = st->shape_sigma;
         mo.outer = st->rounds;
-        if (!s) s = fr_sfs_multiview(ctx, &r->mesh, &r->uv, r->views, r->n, r->ok, &mo, &r->ps, disp);
+        uint8_t *use = malloc((size_t)r->n + 1);
+        if (!use && !s) s = fr_nomem(ctx, "the multi-view solve");
+        for (int k = 0; use && k < r->n; k++) use[k] = r->ok[k] && (!st->shape_use || st->shape_use[r->photo[k]]);
+        if (!s) s = fr_sfs_multiview(ctx, &r->mesh, &r->uv, r->views, r->n, use, &mo, &r->ps, disp);
+        free(use);
         if (!s) s = fr_sfs_vertex_displacement(ctx, &r->mesh, disp, st->shape_size, vdisp);
         log_lighting(ctx, r, "with the shared shape");
         job.vdisp = vdisp;

@@ -21,4 +21,10 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->shape_size = fr_param_int(ctx, FRIG_PARAM_SFS_SHAPE_SIZE);
     s->pose = fr_param_int(ctx, FRIG_PARAM_SFS_POSE);
     s->transfer = fr_param_int(ctx, FRIG_PARAM_SFS_TRANSFER);
+    s->w_stereo = 0.0;
+    s->pose_steps = 0;
+    s->joint_albedo = 0;
+    s->shape_iterations = 0;
+    s->shape_sigma = 0;
+    s->shape_use = NULL;
 }

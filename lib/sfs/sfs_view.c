@@ -173,5 +173,6 @@ frig_status fr_sfs_view_build(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_
     if (e) return e;
     e = fr_sfs_view_render(ctx, m, v, R, t, NULL);
     if (!e) memcpy(v->z_fit, v->z_ref, sizeof(float) * (size_t)v->w * v->h);
+    memcpy(v->R_fit, R, sizeof v->R_fit), memcpy(v->t_fit, t, sizeof v->t_fit);
     return e;
 }
