@@ -16,7 +16,7 @@ const char cmd_retarget_usage[] =
     "deformed onto its cloud, the neutral is solved from all of them, then the blendshapes and\n"
     "each photo's expression weights in turn; the rest of the head (neck, ears, eyes, teeth,\n"
     "gums, mouth) follows the face. Then the outer loop: every photo is fitted again on the new\n"
-    "rig and the stage runs again, retarget.iterations rounds in all (default 3), stopping\n"
+    "rig and the stage runs again, retarget.iterations rounds in all (default 1; the paper runs 3), stopping\n"
     "early when a round moves the neutral by less than retarget.stop_mm on average. Each later\n"
     "round recovers the clouds with the new rig (the sfs stage, sfs.* parameters) and writes\n"
     "them to WORKSPACE/clouds/ and the albedo to WORKSPACE/textures/albedo.png. With\n"

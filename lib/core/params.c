@@ -168,8 +168,9 @@ static const param_row rows[] = {
      "side in pixels of the sclera, iris and eye-overlay textures libfrig paints; 0: flat colours"},
 
     /* retarget (sections 5.2-5.3) */
-    {FRIG_PARAM_RETARGET_ITERATIONS, "retarget.iterations", 3, 1, 20, 1,
-     "rounds of the outer loop (section 5.3): refit every photo on the rig, recover the clouds, retarget"},
+    {FRIG_PARAM_RETARGET_ITERATIONS, "retarget.iterations", 1, 1, 20, 1,
+     "rounds of the outer loop (section 5.3): refit every photo on the rig, recover the clouds, retarget "
+     "(the paper runs 3; 1 measured best with today's clouds: docs/retarget.md)"},
     {FRIG_PARAM_RETARGET_INNER_ITERATIONS, "retarget.inner_iterations", 1, 1, 20, 1,
      "rounds of Algorithm 6 per retarget: correspondences, neutral, blendshapes and weights"},
     {FRIG_PARAM_RETARGET_ALTERNATIONS, "retarget.alternations", 2, 1, 20, 1,
