@@ -21,22 +21,6 @@ static int fail(frig_ctx *ctx, const char *what) {
     return 1;
 }
 
-/* The outer loop's way to recover the clouds with the current rig: the sfs stage again (a
- * frig_clouds_fn); the last albedo is kept in *user. */
-static frig_status recover_clouds(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
-                                  frig_photoset *set, frig_clouds **clouds) {
-    (void)model;
-    frig_image **albedo = user, *fresh_albedo = NULL;
-    frig_clouds *fresh = NULL;
-    frig_status s = frig_sfs(ctx, rig, set, NULL, &fresh, &fresh_albedo);
-    if (s) return s;
-    frig_clouds_free(*clouds);
-    *clouds = fresh;
-    frig_image_free(*albedo);
-    *albedo = fresh_albedo;
-    return FRIG_OK;
-}
-
 static size_t count_status(const frig_photoset *set, frig_photo_status status) {
     size_t n = 0;
     for (size_t i = 0; i < frig_photoset_count(set); i++) n += frig_photoset_status(set, i) == status;
@@ -108,7 +92,7 @@ int main(int argc, char **argv) {
     for (size_t i = 0; i < frig_photoset_count(set); i++) with += frig_clouds_count(clouds, i) > 0;
     printf("sfs: %zu point clouds, %zu photos sfs_failed\n", with, count_status(set, FRIG_PHOTO_SFS_FAILED));
     /* retarget: the personalized rig, beyond the model's span, with the outer loop (sections 5.2-5.3) */
-    if (frig_retarget_refine(ctx, model, set, &clouds, rig, recover_clouds, &albedo)) {
+    if (frig_retarget_refine(ctx, model, set, &clouds, rig, frig_retarget_recover_sfs, &albedo)) {
         fail(ctx, "retarget");
         goto done;
     }
