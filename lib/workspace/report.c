@@ -137,7 +137,7 @@ static frig_status bad(reader *r, const char *what) {
     return fr_error(r->ctx, FRIG_ERR_CORRUPT, "%s: photo %zu: %s", r->file, r->photo, what);
 }
 
-static int read_numbers(const cJSON *a, double *out, int n) {
+int fr_report_read_numbers(const cJSON *a, double *out, int n) {
     if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != n) return 0;
     int k = 0;
     for (const cJSON *e = a->child; e; e = e->next, k++) {
@@ -155,7 +155,7 @@ static int lookup_name(const char *s, const char *const *names, int n) {
 
 static frig_status read_face(reader *r, frig_photoset *set, const cJSON *jf) {
     double box[4], lm[2 * FRIG_LANDMARK_COUNT];
-    if (!read_numbers(cJSON_GetObjectItemCaseSensitive(jf, "box"), box, 4)) return bad(r, "a face box is not 4 numbers");
+    if (!fr_report_read_numbers(cJSON_GetObjectItemCaseSensitive(jf, "box"), box, 4)) return bad(r, "a face box is not 4 numbers");
     const cJSON *score = cJSON_GetObjectItemCaseSensitive(jf, "score");
     int source = lookup_name(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(jf, "source")), source_names, 5);
     if (source < 0) return bad(r, "a face has an unknown source");
@@ -166,7 +166,7 @@ static frig_status read_face(reader *r, frig_photoset *set, const cJSON *jf) {
             return bad(r, "landmarks are not 68 points");
         int k = 0;
         for (const cJSON *e = jl->child; e; e = e->next, k++)
-            if (!read_numbers(e, lm + 2 * k, 2)) return bad(r, "a landmark is not an [x, y] pair");
+            if (!fr_report_read_numbers(e, lm + 2 * k, 2)) return bad(r, "a landmark is not an [x, y] pair");
         has = 1;
     }
     size_t face = 0;
@@ -181,8 +181,8 @@ static frig_status read_face(reader *r, frig_photoset *set, const cJSON *jf) {
 
 static frig_status read_fit(reader *r, frig_photoset *set, size_t idx, const cJSON *fit) {
     double R[9], t[3];
-    if (!read_numbers(cJSON_GetObjectItemCaseSensitive(fit, "rotation"), R, 9) ||
-        !read_numbers(cJSON_GetObjectItemCaseSensitive(fit, "translation"), t, 3))
+    if (!fr_report_read_numbers(cJSON_GetObjectItemCaseSensitive(fit, "rotation"), R, 9) ||
+        !fr_report_read_numbers(cJSON_GetObjectItemCaseSensitive(fit, "translation"), t, 3))
         return bad(r, "\"fit\" lacks rotation or translation");
     const char *cam = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(fit, "camera"));
     int perspective = cam && strcmp(cam, "perspective") == 0;
@@ -228,7 +228,7 @@ static frig_status read_fit_spaces(frig_ctx *ctx, const char *path, frig_photose
     frig_status s = fr_photoset_set_fit_spaces(ctx, set, n_id, n_exp, nm);
     free(nm);
     if (s) return s;
-    if (!read_numbers(id, set->identity, n_id))
+    if (!fr_report_read_numbers(id, set->identity, n_id))
         return fr_error(ctx, FRIG_ERR_CORRUPT, "%s: identity weights are not numbers", path);
     return FRIG_OK;
 }

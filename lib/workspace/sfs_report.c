@@ -36,16 +36,6 @@ void fr_report_write_sfs(fr_json *j, const fr_photo *p) {
     fr_json_end(j);
 }
 
-static int read_numbers(const cJSON *a, double *out, int n) {
-    if (!cJSON_IsArray(a) || cJSON_GetArraySize(a) != n) return 0;
-    int k = 0;
-    for (const cJSON *e = a->child; e; e = e->next, k++) {
-        if (!cJSON_IsNumber(e)) return 0;
-        out[k] = e->valuedouble;
-    }
-    return 1;
-}
-
 int fr_report_read_sfs(const cJSON *sfs, fr_photo *p) {
     const cJSON *px = cJSON_GetObjectItemCaseSensitive(sfs, "pixels");
     const cJSON *kept = cJSON_GetObjectItemCaseSensitive(sfs, "kept");
@@ -58,9 +48,9 @@ int fr_report_read_sfs(const cJSON *sfs, fr_photo *p) {
         return 0;
     int c = 0;
     for (const cJSON *e = light->child; e; e = e->next, c++)
-        if (!read_numbers(e, sh + 9 * c, 9)) return 0;
-    if (!read_numbers(cJSON_GetObjectItemCaseSensitive(sfs, "rotation"), R, 9) ||
-        !read_numbers(cJSON_GetObjectItemCaseSensitive(sfs, "translation"), t, 3))
+        if (!fr_report_read_numbers(e, sh + 9 * c, 9)) return 0;
+    if (!fr_report_read_numbers(cJSON_GetObjectItemCaseSensitive(sfs, "rotation"), R, 9) ||
+        !fr_report_read_numbers(cJSON_GetObjectItemCaseSensitive(sfs, "translation"), t, 3))
         return 0;
     /* a missing error (null: no skin pixel was left) reads back as NaN */
     fr_photoset_set_sfs(p, px->valueint, kept->valueint, cJSON_IsNumber(err) ? err->valuedouble : NAN, sh, R, t);
