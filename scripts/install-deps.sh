@@ -42,7 +42,7 @@ if [ "${1:-}" = "--test" ]; then
   tools="$(cd "$(dirname "$0")/.." && pwd)/build/tools"
   if [ ! -f "$tools/node_modules/gltf-validator/package.json" ]; then
     mkdir -p "$tools"
-    (cd "$tools" && npm install --loglevel=error --no-audit --no-fund gltf-validator@2.0.0-dev.3.10 >/dev/null) ||
+    (cd "$tools" && npm install --loglevel=error --no-progress --no-audit --no-fund gltf-validator@2.0.0-dev.3.10 >/dev/null) ||
       npm_failed "gltf-validator@2.0.0-dev.3.10 (the glTF validator the tests run)"
   fi
 fi
@@ -56,7 +56,7 @@ faceapi_home="${FRIG_FACE_MODELS_HOME:-/usr/local/share/frig/face-api}"
 if [ ! -f "$faceapi_home/model/ssd_mobilenetv1_model-weights_manifest.json" ] ||
    [ "$(cat "$faceapi_home/VERSION" 2>/dev/null)" != "$faceapi_version" ]; then
   scratch="$(mktemp -d)"
-  if ! (cd "$scratch" && npm pack --loglevel=error "@vladmandic/face-api@$faceapi_version" >/dev/null &&
+  if ! (cd "$scratch" && npm pack --loglevel=error --no-progress "@vladmandic/face-api@$faceapi_version" >/dev/null &&
         tar -xzf vladmandic-face-api-"$faceapi_version".tgz package/model package/LICENSE); then
     rm -rf "$scratch"
     npm_failed "@vladmandic/face-api@$faceapi_version (the face networks)"
