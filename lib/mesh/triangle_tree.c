@@ -195,15 +195,26 @@ static double box_dist2(const node *nd, const double p[3]) {
     return d2;
 }
 
-/* Distance from p to triangle tri into hit when it beats hit's (ties to the lower index). */
+/* Squared distance from p to the box of triangle tri's corners: a lower bound of its distance. */
+static double corner_box_dist2(const float *a, const float *b, const float *c, const double p[3]) {
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        float lo = fminf(a[k], fminf(b[k], c[k])), hi = fmaxf(a[k], fmaxf(b[k], c[k]));
+        double d = p[k] < lo ? lo - p[k] : p[k] > hi ? p[k] - hi : 0;
+        d2 += d * d;
+    }
+    return d2;
+}
+
+/* Distance from p to triangle tri into hit when it beats hit's (ties to the lower index). A
+ * triangle whose corners' box is clearly farther than the best so far cannot win (the margin
+ * covers rounding), so the exact test is skipped: the same answer. */
 static void try_triangle(const fr_tri_tree *t, const double p[3], int tri, fr_tri_hit *hit) {
     const int32_t *v = t->tris + 3 * (size_t)tri;
+    const float *fa = t->xyz + 3 * (size_t)v[0], *fb = t->xyz + 3 * (size_t)v[1], *fc = t->xyz + 3 * (size_t)v[2];
+    if (corner_box_dist2(fa, fb, fc, p) > hit->dist2 * (1 + 1e-9) + 1e-24) return;
     double a[3], b[3], c[3], q[3], w[3];
-    for (int k = 0; k < 3; k++) {
-        a[k] = t->xyz[3 * (size_t)v[0] + k];
-        b[k] = t->xyz[3 * (size_t)v[1] + k];
-        c[k] = t->xyz[3 * (size_t)v[2] + k];
-    }
+    for (int k = 0; k < 3; k++) a[k] = fa[k], b[k] = fb[k], c[k] = fc[k];
     double d2 = fr_closest_point_triangle(p, a, b, c, q, w);
     if (d2 < hit->dist2 || (d2 == hit->dist2 && (hit->tri < 0 || tri < hit->tri))) {
         hit->dist2 = d2;
@@ -221,25 +232,25 @@ int fr_tri_tree_nearest_hint(const fr_tri_tree *t, const double p[3], double max
     hit->dist2 = max_dist * max_dist;
     if (t->n_nodes == 0) return 0;
     if (hint >= 0 && hint < t->nt) try_triangle(t, p, hint, hit);
+    /* Each stacked node with its box's distance, measured once when its parent was opened. */
     int stack[2 * MAX_DEPTH + 4], top = 0;
-    stack[top++] = 0;
+    double dist[2 * MAX_DEPTH + 4];
+    stack[top] = 0, dist[top++] = box_dist2(&t->nodes[0], p);
     while (top > 0) {
-        const node *nd = &t->nodes[stack[--top]];
-        if (box_dist2(nd, p) > hit->dist2) continue;
+        top--;
+        if (dist[top] > hit->dist2) continue;
+        const node *nd = &t->nodes[stack[top]];
         if (nd->count > 0 || nd->left < 0) {
             for (int i = nd->first; i < nd->first + nd->count; i++) try_triangle(t, p, t->order[i], hit);
             continue;
         }
-        /* Push the farther child first, so the nearer is searched first. */
-        const node *l = &t->nodes[nd->left], *r = &t->nodes[nd->right];
-        double dl = box_dist2(l, p), dr = box_dist2(r, p);
-        if (dl <= dr) {
-            stack[top++] = nd->right;
-            stack[top++] = nd->left;
-        } else {
-            stack[top++] = nd->left;
-            stack[top++] = nd->right;
-        }
+        /* Push the farther child first, so the nearer is searched first; a child already
+         * farther than the best so far is not pushed. */
+        double dl = box_dist2(&t->nodes[nd->left], p), dr = box_dist2(&t->nodes[nd->right], p);
+        int near = dl <= dr ? nd->left : nd->right, far = dl <= dr ? nd->right : nd->left;
+        double dn = dl <= dr ? dl : dr, df = dl <= dr ? dr : dl;
+        if (df <= hit->dist2) stack[top] = far, dist[top++] = df;
+        if (dn <= hit->dist2) stack[top] = near, dist[top++] = dn;
     }
     return hit->tri >= 0;
 }

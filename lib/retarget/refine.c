@@ -7,19 +7,13 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "core/clock.h"
 #include "core/context.h"
 #include "frig/retarget.h"
 #include "model/model.h"
 #include "rig/rig.h"
 #include "workspace/photoset.h"
-
-static double now_seconds(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_photoset *set, frig_clouds **clouds,
                                  frig_rig *rig, frig_clouds_fn recover, void *user) {
@@ -38,13 +32,19 @@ frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_ph
     frig_status s = FRIG_OK;
     set->rt_rounds = 0; /* this run's rounds only */
     for (int r = 0; r < rounds && !s; r++) {
-        double t0 = now_seconds();
+        fr_stopwatch t0 = fr_stopwatch_start();
+        double part[3] = {0, 0, 0}, c0 = fr_cpu_seconds(); /* CPU s: refit, recovery, retarget */
         if (r > 0) {
             s = frig_fit_rig(ctx, model, rig, set);
+            part[0] = fr_cpu_seconds() - c0;
             if (!s && recover) s = recover(user, ctx, model, rig, set, clouds);
+            part[1] = fr_cpu_seconds() - c0 - part[0];
         }
         memcpy(before, frig_rig_neutral(rig), sizeof(float) * 3 * (size_t)nf);
         if (!s) s = frig_retarget(ctx, model, set, *clouds, rig);
+        double wall = 0, cpu = 0;
+        fr_stopwatch_read(&t0, &wall, &cpu);
+        part[2] = cpu - part[0] - part[1];
         if (s) break;
         const float *after = frig_rig_neutral(rig);
         double change = 0, rms = 0;
@@ -59,7 +59,9 @@ frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_ph
         q.rms_mm = q.photos ? rms / q.photos : NAN;
         s = fr_photoset_add_retarget_round(ctx, set, &q);
         fr_log(ctx, FRIG_LOG_INFO, "retarget round %d: %.1f s, neutral moved %.3f mm, %d photos, cloud RMS %.2f mm",
-               r + 1, now_seconds() - t0, q.change_mm, q.photos, q.rms_mm);
+               r + 1, wall, q.change_mm, q.photos, q.rms_mm);
+        fr_log(ctx, FRIG_LOG_DEBUG, "retarget round %d: %.1f CPU s (refit %.1f, clouds %.1f, retarget %.1f)", r + 1, cpu,
+               part[0], part[1], part[2]);
         if (q.change_mm < stop) break;
     }
     free(before);

@@ -14,8 +14,8 @@
 #include <string.h>
 
 #include <omp.h>
-#include <time.h>
 
+#include "core/clock.h"
 #include "core/context.h"
 #include "frig/retarget.h"
 #include "mesh/deformation_transfer.h"
@@ -52,12 +52,6 @@ void fr_rt_settings_from_ctx(const frig_ctx *ctx, fr_rt_settings *s) {
     s->max_correction = fr_param(ctx, FRIG_PARAM_RETARGET_MAX_CORRECTION_DEG) * M_PI / 180;
     s->max_rms = 1e-3 * fr_param(ctx, FRIG_PARAM_RETARGET_MAX_RMS_MM);
     s->threads = fr_threads(ctx);
-}
-
-static double seconds_now(void) {
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
 /* The working state of one retarget pass on the face. */
@@ -263,7 +257,7 @@ frig_status fr_rt_run(frig_ctx *ctx, const fr_rt_settings *s, const frig_model *
     frig_status r = FRIG_OK;
     fr_rt_mesh mesh;
     memset(&mesh, 0, sizeof mesh);
-    double t_id = seconds_now();
+    fr_stopwatch t_id = fr_stopwatch_start();
     /* The rig as the pass found it: the frame to come back to and the collisions' reference. */
     size_t all3 = 3 * (size_t)rig->topo.vertex_count;
     float *start = malloc(sizeof(float) * all3), *start_deltas = malloc(sizeof(float) * all3 * (size_t)rig->shape_count);
@@ -282,7 +276,9 @@ frig_status fr_rt_run(frig_ctx *ctx, const fr_rt_settings *s, const frig_model *
                                    s->identity_iterations);
         fr_rt_mesh_free(&mesh);
     }
-    if (!r) fr_log(ctx, FRIG_LOG_DEBUG, "retarget: identity from the clouds %.2f s", seconds_now() - t_id);
+    double wall = 0, cpu = 0;
+    fr_stopwatch_read(&t_id, &wall, &cpu);
+    if (!r) fr_log(ctx, FRIG_LOG_DEBUG, "retarget: identity from the clouds %.2f s (%.2f CPU s)", wall, cpu);
     if (!r) r = setup(ctx, s, model, rig, nf, &st);
     size_t n3 = face3(&st);
     st.K = K;
@@ -301,26 +297,26 @@ frig_status fr_rt_run(frig_ctx *ctx, const fr_rt_settings *s, const frig_model *
     for (int it = 0; it < s->inner_iterations && !r; it++) {
         memcpy(D_prev, st.D, sizeof(float) * n3 * (size_t)st.S);
         double t[6];
-        t[0] = seconds_now();
+        t[0] = fr_cpu_seconds();
         r = correspond_all(ctx, &st);
-        t[1] = seconds_now();
+        t[1] = fr_cpu_seconds();
         if (!r) r = transfer_template(ctx, &st);
-        t[2] = seconds_now();
+        t[2] = fr_cpu_seconds();
         if (!r) r = solve_neutral(ctx, &st);
-        t[3] = seconds_now();
+        t[3] = fr_cpu_seconds();
         if (!r) r = transfer_template(ctx, &st);
         double t_shapes = 0, t_weights = 0;
         for (int alt = 0; alt < s->alternations && !r; alt++) {
-            t[4] = seconds_now();
+            t[4] = fr_cpu_seconds();
             r = solve_shapes(ctx, &st, D_prev);
             if (!r) gather_fitting(&st);
-            t[5] = seconds_now();
+            t[5] = fr_cpu_seconds();
             if (!r) r = fr_rt_fit_weights(ctx, s, nf, K, st.N, st.Dfit, n, photos);
-            t_shapes += t[5] - t[4], t_weights += seconds_now() - t[5];
+            t_shapes += t[5] - t[4], t_weights += fr_cpu_seconds() - t[5];
         }
         fr_log(ctx, FRIG_LOG_DEBUG,
-               "retarget round %d: correspondences %.2f s, transfer %.2f s, neutral %.2f s, shapes %.2f s, "
-               "weights %.2f s", it + 1, t[1] - t[0], t[2] - t[1], t[3] - t[2], t_shapes, t_weights);
+               "retarget round %d (CPU s): correspondences %.2f, transfer %.2f, neutral %.2f, shapes %.2f, "
+               "weights %.2f", it + 1, t[1] - t[0], t[2] - t[1], t[3] - t[2], t_shapes, t_weights);
         /* Shapes no photo's weights drive (not fitted) are the template's, transferred. */
         for (int j = 0; j < st.S && !r; j++)
             if (!st.is_fitting[j]) memcpy(st.D + n3 * j, st.T + n3 * j, sizeof(float) * n3);
@@ -336,9 +332,10 @@ frig_status fr_rt_run(frig_ctx *ctx, const fr_rt_settings *s, const frig_model *
             memcpy(old_deltas, rig->deltas, sizeof(float) * rig3 * st.S);
             memcpy(rig->neutral, st.N, sizeof(float) * n3);
             for (int j = 0; j < st.S; j++) memcpy(rig->deltas + rig3 * j, st.D + n3 * j, sizeof(float) * n3);
-            double t_head = seconds_now();
+            fr_stopwatch t_head = fr_stopwatch_start();
             r = fr_rt_whole_head(ctx, model, nf, old_neutral, old_deltas, start, start_deltas, rig);
-            fr_log(ctx, FRIG_LOG_DEBUG, "retarget: the whole head %.2f s", seconds_now() - t_head);
+            fr_stopwatch_read(&t_head, &wall, &cpu);
+            fr_log(ctx, FRIG_LOG_DEBUG, "retarget: the whole head %.2f s (%.2f CPU s)", wall, cpu);
         }
         if (!r && s->anchor_frame) fr_rt_anchor_frame(rig, nf, start);
         free(old_neutral), free(old_deltas);

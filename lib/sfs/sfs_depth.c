@@ -34,6 +34,7 @@ typedef struct problem {
     uint8_t *data;      /* pixel has a data term */
     double *g, *g_ref, *g_try, *delta, *rhs;
     double *robust;     /* per pixel */
+    size_t *damped;     /* unknown -> its diagonal triplet holding w_anchor + mu */
     const float *I, *albedo, *prior;
     double sh[3][FR_SH_COUNT];
     double f, cx, cy, sigma, w_normal, w_anchor, w_prior;
@@ -41,7 +42,7 @@ typedef struct problem {
 
 static void problem_free(problem *p) {
     free(p->idx), free(p->pix), free(p->right), free(p->down), free(p->data);
-    free(p->g), free(p->g_ref), free(p->g_try), free(p->delta), free(p->rhs), free(p->robust);
+    free(p->g), free(p->g_ref), free(p->g_try), free(p->delta), free(p->rhs), free(p->robust), free(p->damped);
 }
 
 /* Normal of pixel i from g, and optionally d n / d P, d n / d Q (each 3). Returns |m|. */
@@ -150,7 +151,8 @@ static frig_status add(frig_ctx *ctx, fr_triplets *t, int a, int b, double v) {
 }
 
 /* Normal equations at g (robust weights fixed from the residuals at g), damped by mu. The
- * triplets come in the same order every time, so the pattern never changes. */
+ * triplets come in the same order every time, so the pattern never changes; set_damping
+ * changes mu alone (the same triplets as assembling again with the new mu). */
 static frig_status assemble(frig_ctx *ctx, problem *p, double mu, fr_triplets *t) {
     fr_triplets_clear(t);
     memset(p->rhs, 0, sizeof(double) * (size_t)p->n);
@@ -199,6 +201,7 @@ static frig_status assemble(frig_ctx *ctx, problem *p, double mu, fr_triplets *t
         int i = p->pix[u], nb[3];
         double d = p->g[u] - p->g_ref[u];
         p->rhs[u] -= p->w_anchor * d;
+        p->damped[u] = t->count;
         s = add(ctx, t, u, u, p->w_anchor + mu);
         for (int dir = 0; dir < 2 && !s; dir++) {
             if (!curvature(p, i, dir, nb)) continue;
@@ -214,6 +217,10 @@ static frig_status assemble(frig_ctx *ctx, problem *p, double mu, fr_triplets *t
     return s;
 }
 
+static void set_damping(problem *p, double mu, fr_triplets *t) {
+    for (int u = 0; u < p->n; u++) t->x[p->damped[u]] = p->w_anchor + mu;
+}
+
 static frig_status setup(frig_ctx *ctx, const fr_sfs_view *v, const uint8_t *data_mask, const fr_sfs_depth_options *o,
                          problem *p) {
     memset(p, 0, sizeof *p);
@@ -225,8 +232,9 @@ static frig_status setup(frig_ctx *ctx, const fr_sfs_view *v, const uint8_t *dat
     p->g = malloc(sizeof(double) * np), p->g_ref = malloc(sizeof(double) * np);
     p->g_try = malloc(sizeof(double) * np), p->delta = malloc(sizeof(double) * np);
     p->rhs = malloc(sizeof(double) * np), p->robust = malloc(sizeof(double) * np);
+    p->damped = malloc(sizeof(size_t) * np);
     if (!p->idx || !p->pix || !p->right || !p->down || !p->data || !p->g || !p->g_ref || !p->g_try || !p->delta ||
-        !p->rhs || !p->robust)
+        !p->rhs || !p->robust || !p->damped)
         return fr_nomem(ctx, "the depth solver");
     p->I = v->I, p->albedo = v->albedo;
     memcpy(p->sh, v->sh, sizeof p->sh);
@@ -275,15 +283,16 @@ frig_status fr_sfs_solve_depth(frig_ctx *ctx, fr_sfs_view *v, const uint8_t *dat
         double e = energy(&p, p.g), mu = 0;
         st.energy_start = e;
         for (int it = 0; it < o->iterations && !s; it++) {
-            if (it == 0) {
-                s = assemble(ctx, &p, 0.0, &t);
+            /* g moved (or this is the start): the equations at g; between tries only the damping changes */
+            s = assemble(ctx, &p, 0.0, &t);
+            if (it == 0 && !s) {
                 double tr = 0;
                 for (size_t k = 0; k < t.count; k++)
                     if (t.i[k] == t.j[k]) tr += t.x[k];
                 mu = 1e-4 * tr / p.n;
             }
             for (int tries = 0; tries < 6 && !s; tries++) {
-                s = assemble(ctx, &p, mu, &t);
+                set_damping(&p, mu, &t);
                 if (!s) s = ch ? fr_cholesky_refactor(ctx, ch, &t) : fr_cholesky_create(ctx, &t, &ch);
                 if (!s) s = fr_cholesky_solve(ctx, ch, 1, p.rhs, p.delta);
                 if (s) break;

@@ -15,6 +15,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/select.h"
 #include "linalg/linalg.h"
 #include "sfs/sfs.h"
 
@@ -32,11 +33,6 @@ void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[
         for (int k = 0; k < FR_SH_COUNT; k++) e += sh[c][k] * y[k];
         S[c] = e > 0 ? e : 0;
     }
-}
-
-static int cmp_float(const void *a, const void *b) {
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
 }
 
 /* Per channel the weighted moments M = sum w a^2 Y Y^T and b = sum w a I Y. */
@@ -160,10 +156,11 @@ static double residual(const double sh[3][FR_SH_COUNT], const float *I, const fl
 frig_status fr_sfs_fit_lighting(frig_ctx *ctx, int n, const uint8_t *mask, const float *I, const float *albedo,
                                 const float *normals, const float *weights, double sh[3][FR_SH_COUNT]) {
     float *robust = malloc(sizeof(float) * (size_t)(n + 1)), *r = malloc(sizeof(float) * (size_t)(n + 1));
+    double *res = malloc(sizeof(double) * (size_t)(n + 1)); /* each pixel's residual, for its weight */
     double (*M)[FR_SH_COUNT * FR_SH_COUNT] = malloc(sizeof(double) * 3 * FR_SH_COUNT * FR_SH_COUNT);
     double b[3][FR_SH_COUNT], prior[3][FR_SH_COUNT];
-    if (!robust || !r || !M) {
-        free(robust), free(r), free(M);
+    if (!robust || !r || !res || !M) {
+        free(robust), free(r), free(res), free(M);
         return fr_nomem(ctx, "the lighting fit");
     }
     for (int i = 0; i < n; i++) robust[i] = 1.0f;
@@ -177,17 +174,18 @@ frig_status fr_sfs_fit_lighting(frig_ctx *ctx, int n, const uint8_t *mask, const
         int m = 0;
         for (int i = 0; i < n; i++) {
             if (mask && !mask[i]) continue;
-            r[m++] = (float)residual(sh, I, albedo, normals, i);
+            res[i] = residual(sh, I, albedo, normals, i);
+            r[m++] = (float)res[i];
         }
         if (m < 10) break;
-        qsort(r, (size_t)m, sizeof *r, cmp_float);
-        double scale = fmax(1.4826 * r[m / 2], 0.005); /* residuals are >= 0: their median as the spread */
+        /* residuals are >= 0: their median as the spread */
+        double scale = fmax(1.4826 * fr_select_float(r, (size_t)m, (size_t)m / 2), 0.005);
         for (int i = 0; i < n; i++) {
             if (mask && !mask[i]) continue;
-            double u = residual(sh, I, albedo, normals, i) / (TUKEY_C * scale);
+            double u = res[i] / (TUKEY_C * scale);
             robust[i] = u < 1 ? (float)((1 - u * u) * (1 - u * u)) : 0.0f;
         }
     }
-    free(robust), free(r), free(M);
+    free(robust), free(r), free(res), free(M);
     return s;
 }

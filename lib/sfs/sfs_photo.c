@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/select.h"
 #include "sfs/sfs.h"
 #include "sfs/sfs_depth.h"
 #include "sfs/sfs_photo.h"
@@ -26,11 +27,6 @@ frig_status fr_sfs_photo_prepare(frig_ctx *ctx, fr_sfs_view *v, const fr_sfs_set
         for (int c = 0; c < 3; c++) v->albedo[3 * i + c] = (float)v->skin_stats.mean_linear[c];
     if (v->skin_stats.skin < 10) return FRIG_OK;
     return fr_sfs_fit_lighting(ctx, (int)n, v->skin, v->I, v->albedo, v->n_ref, NULL, v->sh);
-}
-
-static int cmp_float(const void *a, const void *b) {
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
 }
 
 static int is_set(const float *n) { return n[0] != 0 || n[1] != 0 || n[2] != 0; }
@@ -69,8 +65,7 @@ frig_status fr_sfs_photo_depth(frig_ctx *ctx, fr_sfs_view *v, const fr_sfs_setti
     int m = 0;
     for (size_t i = 0; i < n; i++)
         if (v->skin[i] && v->err[i] >= 0) e[m++] = v->err[i];
-    qsort(e, (size_t)m, sizeof *e, cmp_float);
-    v->sfs_error = m ? e[m / 2] : NAN;
+    v->sfs_error = m ? fr_select_float(e, (size_t)m, (size_t)m / 2) : NAN;
     free(e);
     return FRIG_OK;
 }

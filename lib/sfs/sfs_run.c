@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/clock.h"
 #include "core/context.h"
 #include "image/colour_transfer.h"
 #include "rig/rig.h"
@@ -186,7 +187,10 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
     for (int e = 0; e < set->n_expressions; e++) shape_of[e] = frig_rig_shape_find(rig, set->expression_names[e]);
     run_job job = {r, set, shape_of, 0, NULL};
     int saved = fr_blas_serial_begin();
+    double cpu[6]; /* CPU seconds at each step's end, for the log */
+    cpu[0] = fr_cpu_seconds();
     s = fr_parallel_items(ctx, n, "sfs.prepare", prepare_one, &job);
+    cpu[1] = fr_cpu_seconds();
     /* the mean skin colour of the usable photos: the albedo where no photo saw the texel */
     int used = 0;
     for (int k = 0; k < r->n; k++)
@@ -222,6 +226,7 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
         free(a), free(sorted);
     }
     log_lighting(ctx, r, "on the shared albedo");
+    cpu[2] = fr_cpu_seconds();
     /* the subject's shape from all photos: a displacement of the rig in UV space */
     float *disp = NULL, *vdisp = NULL;
     if (!s && used && st->rounds > 0) {
@@ -248,7 +253,11 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
     }
     free(disp);
     r->vdisp = vdisp;
+    cpu[3] = fr_cpu_seconds();
     if (!s && used) s = fr_parallel_items(ctx, n, "sfs.depth", depth_one, &job);
+    cpu[4] = fr_cpu_seconds();
+    fr_log(ctx, FRIG_LOG_DEBUG, "sfs (CPU s): views %.2f, albedo and lighting %.2f, shared shape and reference %.2f, "
+           "depth %.2f", cpu[1] - cpu[0], cpu[2] - cpu[1], cpu[3] - cpu[2], cpu[4] - cpu[3]);
     fr_blas_serial_end(saved);
     free(shape_of);
     return s;

@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/clock.h"
 #include "core/context.h"
 #include "frig/sfs.h"
 #include "image/image.h"
@@ -172,11 +173,14 @@ frig_status frig_sfs(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, con
         job.count = calloc((size_t)run.n + 1, sizeof(int));
         if (!job.xyz || !job.nrm || !job.conf || !job.count) s = fr_nomem(ctx, "the clouds");
     }
+    double cpu[3];
+    cpu[0] = fr_cpu_seconds();
     if (!s) {
         int saved = fr_blas_serial_begin();
         s = fr_parallel_items(ctx, (size_t)run.n, "sfs.clouds", finish_one, &job);
         fr_blas_serial_end(saved);
     }
+    cpu[1] = fr_cpu_seconds();
     frig_clouds *cl = NULL;
     if (!s && clouds) s = frig_clouds_create(ctx, set->count, &cl);
     /* results of an earlier run stay only with the photos judged now */
@@ -208,6 +212,9 @@ frig_status frig_sfs(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, con
     }
     (void)usable;
     if (!s && albedo) s = albedo_image(ctx, &run, albedo);
+    cpu[2] = fr_cpu_seconds();
+    fr_log(ctx, FRIG_LOG_DEBUG, "sfs (CPU s): regions, poses, clouds%s %.2f, albedo texture %.2f",
+           overlay_dir ? " and pictures" : "", cpu[1] - cpu[0], cpu[2] - cpu[1]);
     for (int k = 0; job.xyz && k < run.n; k++) free(job.xyz[k]), free(job.nrm[k]), free(job.conf[k]);
     free(job.xyz), free(job.nrm), free(job.conf), free(job.count);
     fr_sfs_run_free(&run);
