@@ -29,12 +29,21 @@ if [ -n "$missing" ]; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends $missing
 fi
 
+# npm prints its own reason (an unreachable registry, a proxy's certificate) on stderr; this
+# says which download it was and where npm's settings are.
+npm_failed() { # what
+  echo "install-deps.sh: npm could not fetch $1 from $(npm config get registry 2>/dev/null || echo the npm registry)" \
+       "(npm's error is above; behind a proxy, set npm's proxy and cafile: npm config set cafile FILE)." >&2
+  exit 1
+}
+
 if [ "${1:-}" = "--test" ]; then
   # The Khronos glTF validator is an npm library; keep it in the build tree's tools folder.
   tools="$(cd "$(dirname "$0")/.." && pwd)/build/tools"
   if [ ! -f "$tools/node_modules/gltf-validator/package.json" ]; then
     mkdir -p "$tools"
-    (cd "$tools" && npm install --silent --no-audit --no-fund gltf-validator@2.0.0-dev.3.10 >/dev/null)
+    (cd "$tools" && npm install --loglevel=error --no-progress --no-audit --no-fund gltf-validator@2.0.0-dev.3.10 >/dev/null) ||
+      npm_failed "gltf-validator@2.0.0-dev.3.10 (the glTF validator the tests run)"
   fi
 fi
 
@@ -47,8 +56,11 @@ faceapi_home="${FRIG_FACE_MODELS_HOME:-/usr/local/share/frig/face-api}"
 if [ ! -f "$faceapi_home/model/ssd_mobilenetv1_model-weights_manifest.json" ] ||
    [ "$(cat "$faceapi_home/VERSION" 2>/dev/null)" != "$faceapi_version" ]; then
   scratch="$(mktemp -d)"
-  (cd "$scratch" && npm pack --silent "@vladmandic/face-api@$faceapi_version" >/dev/null &&
-    tar -xzf vladmandic-face-api-"$faceapi_version".tgz package/model package/LICENSE)
+  if ! (cd "$scratch" && npm pack --loglevel=error --no-progress "@vladmandic/face-api@$faceapi_version" >/dev/null &&
+        tar -xzf vladmandic-face-api-"$faceapi_version".tgz package/model package/LICENSE); then
+    rm -rf "$scratch"
+    npm_failed "@vladmandic/face-api@$faceapi_version (the face networks)"
+  fi
   $SUDO mkdir -p "$faceapi_home"
   $SUDO rm -rf "$faceapi_home/model"
   $SUDO cp -r "$scratch/package/model" "$scratch/package/LICENSE" "$faceapi_home/"

@@ -3,7 +3,13 @@
 # under AddressSanitizer + UndefinedBehaviorSanitizer. Installs what it needs first.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh --test
+# apt's and npm's output (thousands of lines on a new machine) goes to test.log; the build's and
+# the tests' to the terminal.
+log="$PWD/test.log"
+printf 'installing the Debian packages and tools (scripts/install-deps.sh --test) ... '
+t0=$SECONDS
+if scripts/install-deps.sh --test > "$log" 2>&1; then echo "done ($((SECONDS - t0)) s)"; else
+  echo "failed; the last lines of $log:"; tail -n 15 "$log"; exit 1; fi
 jobs=$(nproc)
 
 cmake -S . -B build -DFRIG_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
