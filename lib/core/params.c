@@ -234,6 +234,9 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_IDENTITY_PRIOR, "retarget.identity_prior", 100, 0.01, 1e6, 0,
      "weight of the model's prior N(0, I) on the identity fitted to the clouds, against matches weighed at 1 mm "
      "each (s^2 weighs them at s mm)"},
+    {FRIG_PARAM_RETARGET_SFS_ITERATIONS, "retarget.sfs_iterations", 2, 0, 100, 1,
+     "Gauss-Newton iterations of each photo's depth when the outer loop recovers the clouds with the new rig "
+     "(sfs.iterations is the sfs stage's own; 0: the same): the rig there starts closer"},
 };
 
 #define N_ROWS (sizeof rows / sizeof rows[0])

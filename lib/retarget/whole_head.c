@@ -15,6 +15,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <omp.h>
+
 #include "core/context.h"
 #include "mesh/laplacian.h"
 #include "model/model.h"
@@ -211,46 +213,73 @@ static frig_status move_overlays(frig_ctx *ctx, head *h, const float *old_neutra
 
 /* No lid vertex inside its eyeball: in the neutral and in every shape, a skin vertex near an
  * eyeball keeps at least the clearance from its mesh that the old rig gave it (at most 0: the
- * surface), moved out along the vertex's offset from its eyeball's centre. */
-static frig_status keep_lids_out(frig_ctx *ctx, fr_rt_lids *lids, head *h, const float *old_clearance,
-                                 frig_rig *rig) {
+ * surface), moved out along the vertex's offset from its eyeball's centre. Here one shape (f = 0:
+ * the neutral), with its own lids index and scratch. */
+static void lids_out_shape(fr_rt_lids *lids, const head *h, const float *old_clearance, int f, float *xn, float *cn,
+                           float *dir, frig_rig *rig) {
     int nv = h->nv;
     size_t n3 = 3 * (size_t)nv;
-    float *xn = malloc(sizeof(float) * n3), *cn = malloc(sizeof(float) * (size_t)nv);
-    float *dir = malloc(sizeof(float) * n3);
-    frig_status s = xn && cn && dir ? FRIG_OK : fr_nomem(ctx, "the whole head");
-    for (int f = 0; f < h->F && !s; f++) {
-        const float *co = old_clearance + (size_t)f * nv;
-        for (size_t q = 0; q < n3; q++) xn[q] = rig->neutral[q] + (f ? rig->deltas[n3 * (f - 1) + q] : 0.0f);
-        fr_rt_lid_clearance(lids, xn, cn, dir);
-        for (int v = 0; v < nv && !s; v++) {
-            if (h->part[v] > PART_SKIN || !isfinite(cn[v])) continue;
-            double want = fmin(isfinite(co[v]) ? co[v] : 0.0, 0.0);
-            if (cn[v] >= want) continue;
-            /* Out by the missing clearance, away from the eyeball's nearest point. */
-            double push = want - cn[v];
-            float *target = f == 0 ? rig->neutral + 3 * (size_t)v : rig->deltas + n3 * (f - 1) + 3 * (size_t)v;
-            for (int k = 0; k < 3; k++) target[k] += (float)(push * dir[3 * (size_t)v + k]);
-        }
+    const float *co = old_clearance + (size_t)f * nv;
+    for (size_t q = 0; q < n3; q++) xn[q] = rig->neutral[q] + (f ? rig->deltas[n3 * (f - 1) + q] : 0.0f);
+    fr_rt_lid_clearance(lids, xn, cn, dir);
+    for (int v = 0; v < nv; v++) {
+        if (h->part[v] > PART_SKIN || !isfinite(cn[v])) continue;
+        double want = fmin(isfinite(co[v]) ? co[v] : 0.0, 0.0);
+        if (cn[v] >= want) continue;
+        /* Out by the missing clearance, away from the eyeball's nearest point. */
+        double push = want - cn[v];
+        float *target = f == 0 ? rig->neutral + 3 * (size_t)v : rig->deltas + n3 * (f - 1) + 3 * (size_t)v;
+        for (int k = 0; k < 3; k++) target[k] += (float)(push * dir[3 * (size_t)v + k]);
     }
-    free(xn), free(cn), free(dir);
-    return s;
+}
+
+/* Per thread: a lids index (its trees are refitted per shape) and the scratch of one shape. */
+typedef struct lids_work {
+    fr_rt_lids *lids;
+    float *x, *c, *dir;
+} lids_work;
+
+static void lids_work_free(lids_work *w, int threads) {
+    for (int t = 0; w && t < threads; t++) fr_rt_lids_free(w[t].lids), free(w[t].x), free(w[t].c), free(w[t].dir);
+    free(w);
+}
+
+static lids_work *lids_work_new(frig_ctx *ctx, const frig_model *model, int nv, int threads, frig_status *s) {
+    lids_work *w = calloc((size_t)threads, sizeof *w);
+    *s = w ? FRIG_OK : fr_nomem(ctx, "the whole head");
+    for (int t = 0; t < threads && !*s; t++) {
+        *s = fr_rt_lids_create(ctx, model, &w[t].lids);
+        w[t].x = malloc(sizeof(float) * 3 * (size_t)nv), w[t].c = malloc(sizeof(float) * (size_t)nv);
+        w[t].dir = malloc(sizeof(float) * 3 * (size_t)nv);
+        if (!*s && (!w[t].x || !w[t].c || !w[t].dir)) *s = fr_nomem(ctx, "the whole head");
+    }
+    if (*s) lids_work_free(w, threads), w = NULL;
+    return w;
+}
+
+/* The neutral first (every shape sits on it), then the shapes, each on its own thread's index:
+ * a shape writes only its own deltas, so the result does not depend on the threads. */
+static void keep_lids_out(lids_work *w, int threads, const head *h, const float *old_clearance, frig_rig *rig) {
+    lids_out_shape(w[0].lids, h, old_clearance, 0, w[0].x, w[0].c, w[0].dir, rig);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int f = 1; f < h->F; f++) {
+        lids_work *m = &w[omp_get_thread_num()];
+        lids_out_shape(m->lids, h, old_clearance, f, m->x, m->c, m->dir, rig);
+    }
 }
 
 /* The old rig's lid clearances, per shape (F x nv). */
-static float *old_clearances(frig_ctx *ctx, fr_rt_lids *lids, const head *h, const float *old_neutral,
+static float *old_clearances(frig_ctx *ctx, lids_work *w, int threads, const head *h, const float *old_neutral,
                              const float *old_deltas, frig_status *s) {
     size_t n3 = 3 * (size_t)h->nv;
-    float *c = malloc(sizeof(float) * (size_t)h->F * h->nv), *x = malloc(sizeof(float) * n3);
-    *s = c && x ? FRIG_OK : fr_nomem(ctx, "the whole head");
-    for (int f = 0; f < h->F && !*s; f++) {
+    float *c = malloc(sizeof(float) * (size_t)h->F * h->nv);
+    *s = c ? FRIG_OK : fr_nomem(ctx, "the whole head");
+    if (*s) return NULL;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int f = 0; f < h->F; f++) {
+        float *x = w[omp_get_thread_num()].x;
         for (size_t q = 0; q < n3; q++) x[q] = old_neutral[q] + (f ? old_deltas[n3 * (f - 1) + q] : 0.0f);
-        fr_rt_lid_clearance(lids, x, c + (size_t)f * h->nv, NULL);
-    }
-    free(x);
-    if (*s) {
-        free(c);
-        c = NULL;
+        fr_rt_lid_clearance(w[omp_get_thread_num()].lids, x, c + (size_t)f * h->nv, NULL);
     }
     return c;
 }
@@ -321,12 +350,12 @@ frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, con
             }
         /* A push can bring a vertex nearer another part of the eyeball (the cornea's rim): a few
          * passes. */
-        fr_rt_lids *lids = NULL;
-        s = fr_rt_lids_create(ctx, model, &lids);
-        float *old_c = s ? NULL : old_clearances(ctx, lids, &h, ref_neutral, ref_deltas, &s);
-        for (int pass = 0; pass < LID_PASSES && !s; pass++) s = keep_lids_out(ctx, lids, &h, old_c, rig);
+        int threads = fr_threads(ctx);
+        lids_work *w = lids_work_new(ctx, model, h.nv, threads, &s);
+        float *old_c = s ? NULL : old_clearances(ctx, w, threads, &h, ref_neutral, ref_deltas, &s);
+        for (int pass = 0; pass < LID_PASSES && !s; pass++) keep_lids_out(w, threads, &h, old_c, rig);
         free(old_c);
-        fr_rt_lids_free(lids);
+        lids_work_free(w, threads);
         if (!s) s = keep_teeth_in(ctx, model, &h, ref_neutral, ref_deltas, rig);
     }
     free(h.part);

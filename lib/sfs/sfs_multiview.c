@@ -74,6 +74,7 @@ typedef struct mv {
     float *albedo;      /* 3 per texel */
     float *albedo_try;  /* 3 per texel */
     double *Haa, *HaD, *ga; /* joint albedo: per texel 3, 9 (3 x the stencil's 3) and 3 */
+    size_t *damped;     /* per texel: its diagonal triplet holding w_anchor + mu */
 } mv;
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
@@ -352,6 +353,7 @@ static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr, in
             if (!st) st = add(ctx, tr, d, r, H[4]);
             if (!st) st = add(ctx, tr, d, d, H[5]);
         }
+        s->damped[t] = tr->count;
         if (!st) st = add(ctx, tr, t, t, s->o->w_anchor + mu);
         s->rhs[t] -= s->o->w_anchor * s->D[t];
         int nb[3];
@@ -366,6 +368,11 @@ static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr, in
         }
     }
     return st;
+}
+
+/* The damping alone changed: the triplets assemble() would give at the same D with this mu. */
+static void set_damping(mv *s, double mu, fr_triplets *tr) {
+    for (int t = 0; t < s->nt; t++) tr->x[s->damped[t]] = s->o->w_anchor + mu;
 }
 
 /* Albedo of each texel given the displacement: a_c = sum w S I / sum w S^2 (robust). */
@@ -536,7 +543,7 @@ static void update_pose(mv *s, int k, int steps) {
 static void mv_free(mv *s) {
     for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w), free(s->pt[k].dI);
     free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
-    free(s->H), free(s->albedo), free(s->albedo_try), free(s->Haa), free(s->HaD), free(s->ga);
+    free(s->H), free(s->albedo), free(s->albedo_try), free(s->Haa), free(s->HaD), free(s->ga), free(s->damped);
 }
 
 /* Every photo's pose against the shared surface, then each view drawn again at its pose (the
@@ -576,8 +583,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     s.rhs = malloc(sizeof(double) * nt), s.H = malloc(sizeof(double) * 6 * nt), s.albedo = malloc(sizeof(float) * 3 * nt);
     s.albedo_try = malloc(sizeof(float) * 3 * nt), s.Haa = malloc(sizeof(double) * 3 * nt);
     s.HaD = malloc(sizeof(double) * 9 * nt), s.ga = malloc(sizeof(double) * 3 * nt);
+    s.damped = malloc(sizeof(size_t) * nt);
     frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs || !s.H || !s.albedo ||
-                         !s.albedo_try || !s.Haa || !s.HaD || !s.ga
+                         !s.albedo_try || !s.Haa || !s.HaD || !s.ga || !s.damped
                          ? fr_nomem(ctx, "the multi-view solve")
                          : FRIG_OK;
     for (int k = 0; k < nviews && !st; k++) {
@@ -621,16 +629,20 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         memcpy(s.D_s, s.D, sizeof(double) * (size_t)s.nt);
         update_albedo(&s, threads);
         double e = energy(&s, s.D, s.albedo), mu = -1;
+        int assembled = 0; /* tr and rhs hold the equations at the current D (albedo, lighting) */
         for (int it = 0; it < o->iterations && !st; it++) {
             for (int tries = 0; tries < 5 && !st; tries++) {
-                if (mu < 0) {
+                if (!assembled) {
                     st = assemble(ctx, &s, 0.0, &tr, threads);
+                    assembled = 1;
+                }
+                if (mu < 0 && !st) {
                     double trace = 0;
                     for (size_t q = 0; q < tr.count; q++)
                         if (tr.i[q] == tr.j[q]) trace += tr.x[q];
                     mu = 1e-3 * trace / s.nt;
                 }
-                if (!st) st = assemble(ctx, &s, mu, &tr, threads);
+                if (!st) set_damping(&s, mu, &tr);
                 if (!st) st = ch ? fr_cholesky_refactor(ctx, ch, &tr) : fr_cholesky_create(ctx, &tr, &ch);
                 if (!st) st = fr_cholesky_solve(ctx, ch, 1, s.rhs, s.delta);
                 if (st) break;
@@ -643,6 +655,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
                 if (e2 < e) {
                     memcpy(s.D, s.D_try, sizeof(double) * (size_t)s.nt);
                     if (o->joint_albedo) memcpy(s.albedo, s.albedo_try, sizeof(float) * 3 * (size_t)s.nt);
+                    assembled = 0;
                     e = e2;
                     mu *= 0.3;
                     break;

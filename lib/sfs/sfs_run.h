@@ -26,4 +26,8 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
                            fr_sfs_run *run);
 void fr_sfs_run_free(fr_sfs_run *run);
 
+/* frig_sfs with the settings given instead of the context's (the outer loop's recovery). */
+frig_status fr_sfs_stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
+                         const char *overlay_dir, frig_clouds **clouds, frig_image **albedo);
+
 #endif

@@ -154,15 +154,20 @@ static frig_status albedo_image(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) 
 
 frig_status frig_sfs(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const char *overlay_dir,
                      frig_clouds **clouds, frig_image **albedo) {
+    fr_sfs_settings st;
+    fr_sfs_settings_from_ctx(ctx, &st);
+    return fr_sfs_stage(ctx, rig, set, &st, overlay_dir, clouds, albedo);
+}
+
+frig_status fr_sfs_stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
+                         const char *overlay_dir, frig_clouds **clouds, frig_image **albedo) {
     if (clouds) *clouds = NULL;
     if (albedo) *albedo = NULL;
     if (!rig || !set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_sfs: NULL rig or photo set");
-    fr_sfs_settings st;
-    fr_sfs_settings_from_ctx(ctx, &st);
     frig_status s = overlay_dir ? fr_make_dirs(ctx, overlay_dir) : FRIG_OK;
     if (s) return s;
     fr_sfs_run run;
-    s = fr_sfs_run_all(ctx, rig, set, &st, &run);
+    s = fr_sfs_run_all(ctx, rig, set, st, &run);
     if (!s && run.n == 0)
         s = fr_error(ctx, FRIG_ERR_TOO_FEW, "no fitted photo with an ok status for shape from shading (run frig fit first)");
     finish_job job = {&run, set, overlay_dir, NULL, NULL, NULL, NULL};
