@@ -42,16 +42,6 @@ int cli_rig_paths_of(const char *cmd, const char *out, cli_rig_paths *p);
 /* The rig's glTF and OBJ files where -o OUT says (above), with the face texture when given
  * (a PNG path, may be NULL), and a summary of the targets on stdout. */
 int cli_export_rig(cli_env *env, const char *cmd, frig_rig *rig, const char *out, const char *texture);
-/* The sfs stage as the outer loop's way to recover the clouds with the current rig (a
- * frig_clouds_fn for frig_retarget_refine, user a cli_sfs_recover): frig_sfs on the set, its
- * clouds replacing *clouds, its albedo kept in user (the last call's; the caller frees it). */
-typedef struct cli_sfs_recover {
-    const char *overlay_dir; /* the pictures (NULL: none) */
-    frig_image *albedo;      /* the last recovery's albedo, NULL before the first */
-    int calls;
-} cli_sfs_recover;
-frig_status cli_sfs_recover_clouds(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
-                                   frig_photoset *set, frig_clouds **clouds);
 /* Remove the *.jpg files in a folder (an earlier run's overlays). */
 void cli_clear_jpegs(const char *dir);
 

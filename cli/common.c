@@ -85,21 +85,3 @@ int cli_export_rig(cli_env *env, const char *cmd, frig_rig *rig, const char *out
     printf("%s\n", missing ? "" : " none");
     return CLI_OK;
 }
-
-frig_status cli_sfs_recover_clouds(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
-                                   frig_photoset *set, frig_clouds **clouds) {
-    (void)model;
-    cli_sfs_recover *rec = user;
-    frig_clouds *fresh = NULL;
-    frig_image *albedo = NULL;
-    frig_status s = frig_sfs(ctx, rig, set, rec ? rec->overlay_dir : NULL, &fresh, rec ? &albedo : NULL);
-    if (s) return s;
-    frig_clouds_free(*clouds);
-    *clouds = fresh;
-    if (rec) {
-        frig_image_free(rec->albedo);
-        rec->albedo = albedo;
-        rec->calls++;
-    }
-    return FRIG_OK;
-}

@@ -421,6 +421,19 @@ static int write_texture(run_ctx *r, const frig_image *albedo) {
     return rc;
 }
 
+/* The library's frig_retarget_recover_sfs, counting its calls for the log line. */
+typedef struct recover_count {
+    frig_image *albedo; /* the last recovery's albedo, NULL before the first */
+    int calls;
+} recover_count;
+
+static frig_status recover_counted(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
+                                   frig_photoset *set, frig_clouds **clouds) {
+    recover_count *rec = user;
+    rec->calls++;
+    return frig_retarget_recover_sfs(&rec->albedo, ctx, model, rig, set, clouds);
+}
+
 static int retarget_run(run_ctx *r) {
     cli_env *env = r->env;
     int rc = run_load_model(r);
@@ -429,7 +442,7 @@ static int retarget_run(run_ctx *r) {
     if (rc) return rc;
     frig_rig *rig = NULL, *before = NULL;
     frig_clouds *clouds = NULL;
-    cli_sfs_recover rec = {NULL, NULL, 0};
+    recover_count rec = {NULL, 0};
     char sfs_dir[4200], sheet[4200];
     run_path(r, "stages/sfs", sfs_dir, sizeof sfs_dir);
     size_t with = 0;
@@ -437,7 +450,7 @@ static int retarget_run(run_ctx *r) {
         frig_rig_clone(env->ctx, rig, &before))
         rc = cli_fail(env, "run");
     for (size_t i = 0; rc == CLI_OK && i < frig_photoset_count(set); i++) with += frig_clouds_count(clouds, i) > 0;
-    if (rc == CLI_OK && with && frig_retarget_refine(env->ctx, r->model, set, &clouds, rig, cli_sfs_recover_clouds, &rec))
+    if (rc == CLI_OK && with && frig_retarget_refine(env->ctx, r->model, set, &clouds, rig, recover_counted, &rec))
         rc = fail_or_interrupted(r);
     if (rc == CLI_OK && frig_clouds_save(env->ctx, clouds, set, r->out)) rc = fail_or_interrupted(r);
     if (rc == CLI_OK) rc = write_texture(r, rec.albedo);

@@ -154,6 +154,7 @@ typedef enum frig_param {
     FRIG_PARAM_FIT_PERSPECTIVE = 410,       /* 1: perspective camera, 0: weak perspective (default 1) */
     FRIG_PARAM_FIT_CONTOUR_WEIGHT = 411,    /* weight of the jaw landmarks 0-16 (default 0.25) */
     FRIG_PARAM_FIT_JOINT_PRIOR = 412,       /* joint identity prior = this x the subset centroid (default 0: the model mean) */
+    FRIG_PARAM_FIT_MEAN_SIZE = 450,         /* 1: fit's and retarget's identity keep the mean face's size (default 1; docs/fit.md) */
 
     /* synthetic ground truth */
     FRIG_PARAM_SYNTH_MAX_YAW = 500,         /* degrees (default 60) */

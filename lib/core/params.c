@@ -90,6 +90,8 @@ static const param_row rows[] = {
      "weight of the jaw landmarks 0-16 (a detector's jaw points err twice as much as the others)"},
     {FRIG_PARAM_FIT_JOINT_PRIOR, "fit.joint_prior", 0, 0, 1, 0,
      "joint identity prior: this fraction of the selected photos' mean identity (1: the paper; 0: the model mean)"},
+    {FRIG_PARAM_FIT_MEAN_SIZE, "fit.mean_size", 1, 0, 1, 1,
+     "1: the identity keeps the mean face's size, in the fit's joint identity and retarget's identity from the clouds (photos do not show a head's size; the landmarks' bias would set it)"},
 
     {FRIG_PARAM_SYNTH_MAX_YAW, "synth.max_yaw", 60, 0, 90, 0, "largest head yaw of synthetic photos, degrees"},
     {FRIG_PARAM_SYNTH_OFFSET_MM, "synth.offset_mm", 4, 0, 50, 0,

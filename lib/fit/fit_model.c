@@ -8,6 +8,7 @@
 #include <cblas.h>
 
 #include "core/context.h"
+#include "model/face_size.h"
 #include "fit/fit_model.h"
 
 /* The silhouette band: narrow-face vertices between the chin and the eyes, away from the
@@ -237,6 +238,11 @@ frig_status fr_fit_model_build(frig_ctx *ctx, const frig_model *model, int n_id,
     free(map.of_vertex);
     if (!s) s = build_adjacency(ctx, fm);
     if (!s) s = gather_basis(ctx, fm);
+    if (!s && fm->n_id > 0) {
+        fm->size_gradient = malloc(sizeof(double) * (size_t)fm->n_id);
+        s = fm->size_gradient ? fr_face_size_gradient(ctx, model, fm->n_id, fm->size_gradient)
+                              : fr_nomem(ctx, "the fit model");
+    }
     if (s) fr_fit_model_free(fm);
     return s;
 }
@@ -267,6 +273,7 @@ void fr_fit_model_free(fr_fit_model *fm) {
     free(fm->tris);
     free(fm->adj_start);
     free(fm->adj);
+    free(fm->size_gradient);
     memset(fm, 0, sizeof *fm);
 }
 

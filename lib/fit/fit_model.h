@@ -41,6 +41,9 @@ typedef struct fr_fit_model {
     int *adj_start, *adj;
     /* Model-space x of the face centre line and the sign of x on side 0. */
     double side0_sign;
+    /* n_id values: the face size's relative change per identity mode (fit/face_size.h); NULL
+     * when n_id is 0. */
+    double *size_gradient;
 } fr_fit_model;
 
 frig_status fr_fit_model_build(frig_ctx *ctx, const frig_model *model, int n_id, fr_fit_model *out);

@@ -13,6 +13,7 @@
 #include <omp.h>
 
 #include "core/context.h"
+#include "model/face_size.h"
 #include "fit/photo_consistency.h"
 #include "fit/progressive_fit.h"
 #include "linalg/linalg.h"
@@ -37,6 +38,7 @@ void fr_fit_settings_from_ctx(const frig_ctx *ctx, fr_fit_settings *s) {
     s->joint_w_id = s->start.id;
     s->joint_prior = fr_param(ctx, FRIG_PARAM_FIT_JOINT_PRIOR);
     s->contour_weight = fr_param(ctx, FRIG_PARAM_FIT_CONTOUR_WEIGHT);
+    s->mean_size = fr_param_int(ctx, FRIG_PARAM_FIT_MEAN_SIZE);
     s->iterations = fr_param_int(ctx, FRIG_PARAM_FIT_ITERATIONS);
     s->joint_sweeps = 4;
     s->threads = fr_threads(ctx);
@@ -142,7 +144,9 @@ static frig_status identity_step(run *r, const int *which, int count, double *id
         H[i + (size_t)ni * i] += w3;
         g[i] += w3 * (identity[i] - (prior ? prior[i] : 0));
     }
-    frig_status st = fr_solve_spd(r->ctx, ni, 1, H, ni, g, ni);
+    frig_status st = r->s->mean_size && fm->size_gradient
+                         ? fr_solve_size_held(r->ctx, ni, H, g, identity, fm->size_gradient)
+                         : fr_solve_spd(r->ctx, ni, 1, H, ni, g, ni);
     if (!st)
         for (int i = 0; i < ni; i++) identity[i] -= g[i];
     free(HH), free(J), free(H);

@@ -40,6 +40,7 @@ typedef struct fr_fit_settings {
     double joint_w_id;             /* identity prior weight in the joint fit (eq. 4.9 w3), per photo */
     double joint_prior;            /* the joint prior is this fraction of the subset's centroid */
     double contour_weight;         /* weight of the jaw landmarks 0-16 */
+    int mean_size;                 /* 1: the joint identity keeps the mean face's size */
     int iterations;                /* LM iterations of an individual fit */
     int joint_sweeps;              /* alternations pose/expression <-> identity */
     int threads;

@@ -22,6 +22,7 @@
 #include "core/context.h"
 #include "linalg/box_qp.h"
 #include "linalg/linalg.h"
+#include "model/face_size.h"
 #include "model/model.h"
 #include "retarget/retarget.h"
 #include "rig/rig.h"
@@ -136,7 +137,11 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
     double *store = malloc(sizeof(double) * per_photo_size * (size_t)n);
     double *S = malloc(sizeof(double) * (size_t)n_id * (n_id + 1)), *g = S ? S + (size_t)n_id * n_id : NULL;
     float *B = vertex_major_basis(model, rig, nf, n_id, K, fit_shape);
-    frig_status st = work && cur && mt && pp && store && S && B ? FRIG_OK : fr_nomem(ctx, "the identity fit");
+    double *size_grad = s->mean_size ? malloc(sizeof(double) * (size_t)n_id) : NULL;
+    frig_status st = work && cur && mt && pp && store && S && B && (size_grad || !s->mean_size)
+                         ? FRIG_OK
+                         : fr_nomem(ctx, "the identity fit");
+    if (!st && size_grad) st = fr_face_size_gradient(ctx, model, n_id, size_grad);
     int most = 0;
     for (int i = 0; i < n; i++) most = photos[i].n_pick > most ? photos[i].n_pick : most;
     if (!trees && !st) st = fr_nomem(ctx, "the identity fit");
@@ -231,7 +236,13 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
             S[(size_t)a * n_id + a] += s->identity_prior;
             g[a] -= s->identity_prior * identity[a];
         }
-        st = fr_solve_spd(ctx, n_id, 1, S, n_id, g, n_id);
+        if (size_grad) { /* the step with the face's size held (model/face_size.h): new = identity - x */
+            for (int a = 0; a < n_id; a++) g[a] = -g[a];
+            st = fr_solve_size_held(ctx, n_id, S, g, identity, size_grad);
+            for (int a = 0; a < n_id; a++) g[a] = -g[a];
+        } else {
+            st = fr_solve_spd(ctx, n_id, 1, S, n_id, g, n_id);
+        }
         if (st) {
             fr_blas_serial_end(saved);
             break;
@@ -263,6 +274,6 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
     for (int t = 0; mt && t < threads; t++) free(mt[t]);
     for (int t = 0; trees && t < threads; t++) fr_tri_tree_free(trees[t]);
     free(trees);
-    free(work), free(cur), free(mt), free(pp), free(store), free(S), free(B);
+    free(work), free(cur), free(mt), free(pp), free(store), free(S), free(B), free(size_grad);
     return st;
 }
