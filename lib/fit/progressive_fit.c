@@ -144,8 +144,10 @@ static frig_status identity_step(run *r, const int *which, int count, double *id
         H[i + (size_t)ni * i] += w3;
         g[i] += w3 * (identity[i] - (prior ? prior[i] : 0));
     }
+    /* identity -= step; with the size held, g . (identity - step) = 0 */
     frig_status st = r->s->mean_size && fm->size_gradient
-                         ? fr_solve_size_held(r->ctx, ni, H, g, identity, fm->size_gradient)
+                         ? fr_solve_size_held(r->ctx, ni, H, g, fm->size_gradient,
+                                              fr_face_size_change(fm->size_gradient, identity, ni))
                          : fr_solve_spd(r->ctx, ni, 1, H, ni, g, ni);
     if (!st)
         for (int i = 0; i < ni; i++) identity[i] -= g[i];

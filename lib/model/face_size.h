@@ -10,14 +10,14 @@
  * vertices (all vertices when the model names no such region) from their
  * centroid on the model's mean: for identity weights w the face is (1 + g . w)
  * times the mean face's size. n_id values. */
-frig_status fr_face_size_gradient(frig_ctx *ctx, const frig_model *model,
-                                  int n_id, double *g);
+frig_status fr_face_size_gradient(frig_ctx *ctx, const frig_model *model, int n_id, double *g);
 
-/* Solve H x = b for the identity step with the face's size held: x minimizes
- * x^T H x / 2 - b^T x subject to g . (w - x) = 0, i.e. the new identity w - x
- * has the mean face's size (to first order). H (n x n, SPD, overwritten) and b
- * (overwritten by x). */
-frig_status fr_solve_size_held(frig_ctx *ctx, int n, double *H, double *b,
-                               const double *w, const double *g);
+/* g . w: the face's relative size change for identity weights w (first order). */
+double fr_face_size_change(const double *g, const double *w, int n_id);
+
+/* Solve H x = b subject to g . x = t (a Lagrange multiplier on one Cholesky factor): the
+ * identity step with the face's size held, t chosen so the new identity has g . w = 0 (for
+ * w_new = w - x, t = g . w). H (n x n, SPD) is overwritten by its factor, b by x. */
+frig_status fr_solve_size_held(frig_ctx *ctx, int n, double *H, double *b, const double *g, double t);
 
 #endif

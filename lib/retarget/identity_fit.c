@@ -236,13 +236,9 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
             S[(size_t)a * n_id + a] += s->identity_prior;
             g[a] -= s->identity_prior * identity[a];
         }
-        if (size_grad) { /* the step with the face's size held (model/face_size.h): new = identity - x */
-            for (int a = 0; a < n_id; a++) g[a] = -g[a];
-            st = fr_solve_size_held(ctx, n_id, S, g, identity, size_grad);
-            for (int a = 0; a < n_id; a++) g[a] = -g[a];
-        } else {
-            st = fr_solve_spd(ctx, n_id, 1, S, n_id, g, n_id);
-        }
+        /* identity += step; with the size held (model/face_size.h), g . (identity + step) = 0 */
+        st = size_grad ? fr_solve_size_held(ctx, n_id, S, g, size_grad, -fr_face_size_change(size_grad, identity, n_id))
+                       : fr_solve_spd(ctx, n_id, 1, S, n_id, g, n_id);
         if (st) {
             fr_blas_serial_end(saved);
             break;
