@@ -514,6 +514,7 @@ int main(int argc, char **argv) {
     /* Template, model-space, best in-span. */
     frig_rig_from_model(ctx, model, NULL, &tmp);
     row("generic template", rig_score_rig(truth, tmp, nf), NULL);
+    if (where) where_report(ctx, "template", truth, frig_rig_neutral(tmp), nf);
     frig_rig_free(tmp);
     char extra[256];
     snprintf(extra, sizeof extra, "weights |w - w_true| %.4f", weight_error(set));

@@ -6,7 +6,9 @@
  * distance; per subject the median over photos of the mean distance, the share of the photos
  * showing a face that have a cloud, and the clouds made from photos that show no face or are
  * under- or over-exposed. Bar: median <= 1.0 mm, share >= 70%, at most one such cloud.
- * Usage: sfs_holdout SUBJECT_DIR WORKSPACE [SUBJECT_DIR WORKSPACE]... [--verbose] */
+ * --bands also prints the mean distance by height band of the aligned points (chin and neck, mouth and
+ * nose, eyes, forehead) and each band's share of the points.
+ * Usage: sfs_holdout SUBJECT_DIR WORKSPACE [SUBJECT_DIR WORKSPACE]... [--verbose] [--bands] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,8 +24,29 @@ static int cmp_d(const void *a, const void *b) {
     return (x > y) - (x < y);
 }
 
+/* --bands: the aligned points' distances by height in the head frame (the bands of
+ * retarget_eval --where: chin and neck, mouth and nose, eyes, forehead), summed over photos. */
+#define N_BANDS 4
+static const double band_top[N_BANDS] = {-0.0316, 0.0062, 0.0358, 1e9};
+typedef struct band_sum {
+    double sum[N_BANDS];
+    size_t count[N_BANDS];
+} band_sum;
+
+static void band_add(const double *pts, const double *d, size_t n, double s, const double R[9], const double t[3],
+                     band_sum *b) {
+    for (size_t k = 0; k < n; k++) {
+        if (!isfinite(d[k])) continue;
+        const double *x = pts + 3 * k;
+        double y = s * (R[3] * x[0] + R[4] * x[1] + R[5] * x[2]) + t[1];
+        int q = 0;
+        while (q < N_BANDS - 1 && y > band_top[q]) q++;
+        b->sum[q] += d[k], b->count[q]++;
+    }
+}
+
 static int score_subject(frig_ctx *ctx, const char *subject_dir, const char *ws, int verbose, double *median,
-                         int *faces, int *with, int *bad, int *photos) {
+                         int *faces, int *with, int *bad, int *photos, band_sum *bands) {
     char path[4096];
     frig_rig *truth = NULL;
     frig_photoset *set = NULL;
@@ -70,6 +93,7 @@ static int score_subject(frig_ctx *ctx, const char *subject_dir, const char *ws,
         double *pts = malloc(sizeof(double) * 3 * n), *d = malloc(sizeof(double) * n), s, R[9], t[3];
         for (size_t k = 0; k < 3 * n; k++) pts[k] = p[k];
         fr_cloud_align(ctx, ix, pts, (int)n, 15, 0.01, d, &s, R, t);
+        if (bands) band_add(pts, d, n, s, R, t, bands);
         int finite = 0;
         for (size_t k = 0; k < n; k++)
             if (isfinite(d[k])) d[finite++] = d[k];
@@ -93,14 +117,15 @@ static int score_subject(frig_ctx *ctx, const char *subject_dir, const char *ws,
 }
 
 int main(int argc, char **argv) {
-    int verbose = 0, pairs = 0, pass = 1;
+    int verbose = 0, pairs = 0, pass = 1, by_band = 0;
     const char *args[512];
     for (int i = 1; i < argc && pairs < 512; i++) {
         if (!strcmp(argv[i], "--verbose")) verbose = 1;
+        else if (!strcmp(argv[i], "--bands")) by_band = 1;
         else args[pairs++] = argv[i];
     }
     if (pairs < 2 || pairs % 2) {
-        fprintf(stderr, "usage: sfs_holdout SUBJECT_DIR WORKSPACE [SUBJECT_DIR WORKSPACE]... [--verbose]\n");
+        fprintf(stderr, "usage: sfs_holdout SUBJECT_DIR WORKSPACE [SUBJECT_DIR WORKSPACE]... [--verbose] [--bands]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
@@ -109,12 +134,24 @@ int main(int argc, char **argv) {
         double med;
         int faces, with, bad, photos;
         if (verbose) printf("%s:\n", args[k]);
-        if (score_subject(ctx, args[k], args[k + 1], verbose, &med, &faces, &with, &bad, &photos)) return 1;
+        band_sum bs;
+        memset(&bs, 0, sizeof bs);
+        if (score_subject(ctx, args[k], args[k + 1], verbose, &med, &faces, &with, &bad, &photos, by_band ? &bs : NULL))
+            return 1;
         double share = faces ? (double)with / faces : 0;
         int ok = 1e3 * med <= 1.0 && share >= 0.7 && bad <= 1;
         pass &= ok;
         printf("%-28s %7d %8d %4d %3.0f%% %10.3f %s (clouds from no-face/exposure photos: %d)\n", args[k], photos, faces,
                with, 100 * share, 1e3 * med, ok ? "pass" : "FAIL", bad);
+        if (by_band) {
+            size_t all = 0;
+            for (int q = 0; q < N_BANDS; q++) all += bs.count[q];
+            printf("  by height (chin..top), mean mm (share of points):");
+            for (int q = 0; q < N_BANDS; q++)
+                printf(" %.3f (%.0f%%)", bs.count[q] ? 1e3 * bs.sum[q] / bs.count[q] : NAN,
+                       all ? 100.0 * bs.count[q] / all : 0.0);
+            printf("\n");
+        }
     }
     printf("all subjects: %s\n", pass ? "pass" : "FAIL");
     frig_ctx_free(ctx);
