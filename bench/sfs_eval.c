@@ -14,9 +14,10 @@
  * from the photos whose fit is within DEG of the truth's rotation only; --pose-noise DEG (with
  * --truth-pose) turns each photo's true rotation by DEG about an axis of its own (docs/sfs.md).
  * --truth-pose replaces the fit's pose and camera by the truth's (--truth-weights the
- * expression weights too): where the error lives.
+ * expression weights too; --truth-expression the weights alone, with the fit's pose and camera): where
+ * the error lives.
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
- *                 [--truth-weights] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo]
+ *                 [--truth-weights] [--truth-expression] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo]
  *                 [--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] [--pose-noise DEG] */
 #include <math.h>
 #include <stdio.h>
@@ -91,12 +92,20 @@ static void split_error(const float *a, const float *an, const float *b, int n, 
     *normal = 1e3 * sn / n, *tangential = 1e3 * stg / n;
 }
 
-static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int weights, double noise_deg) {
+static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int pose, int weights, double noise_deg) {
     for (size_t i = 0; i < set->count; i++) {
         fr_photo *p = &set->photos[i];
         bench_truth tr;
         memset(&tr, 0, sizeof tr);
         if (p->fitted && bench_truth_load(p->path, truth_rig, &tr) && tr.has_face) {
+            for (int e = 0; e < set->n_expressions && weights; e++) {
+                int k = frig_rig_shape_find(truth_rig, set->expression_names[e]);
+                p->fit_expression[e] = k >= 0 ? tr.weights[k] : 0;
+            }
+            if (!pose) {
+                bench_truth_free(&tr);
+                continue;
+            }
             memcpy(p->fit_rotation, tr.R, sizeof tr.R);
             if (noise_deg > 0) {
                 /* a turn of noise_deg about an axis drawn per photo (the same axes on every run) */
@@ -108,10 +117,6 @@ static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int we
             }
             memcpy(p->fit_translation, tr.t, sizeof tr.t);
             p->fit_focal = tr.f;
-            for (int e = 0; e < set->n_expressions && weights; e++) {
-                int k = frig_rig_shape_find(truth_rig, set->expression_names[e]);
-                p->fit_expression[e] = k >= 0 ? tr.weights[k] : 0;
-            }
         }
         bench_truth_free(&tr);
     }
@@ -120,7 +125,7 @@ static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int we
 int main(int argc, char **argv) {
     if (argc < 3) {
         fprintf(stderr, "usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose] "
-                        "[--truth-weights] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo] "
+                        "[--truth-weights] [--truth-expression] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo] "
                         "[--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] "
                         "[--pose-noise DEG]\n");
         return 2;
@@ -134,6 +139,7 @@ int main(int argc, char **argv) {
         } else if (!strcmp(argv[i], "--threads") && i + 1 < argc) frig_ctx_set_threads(ctx, atoi(argv[++i]));
         else if (!strcmp(argv[i], "--truth-pose")) truth_pose = 1;
         else if (!strcmp(argv[i], "--truth-weights")) truth_pose = truth_weights = 1;
+        else if (!strcmp(argv[i], "--truth-expression")) truth_weights = 1;
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;
         else if (!strcmp(argv[i], "--stereo") && i + 1 < argc) w_stereo = atof(argv[++i]);
         else if (!strcmp(argv[i], "--joint-pose") && i + 1 < argc) pose_steps = atoi(argv[++i]);
@@ -155,7 +161,7 @@ int main(int argc, char **argv) {
     snprintf(path, sizeof path, "%s/rig/rig.frigrig", argv[1]);
     if (frig_rig_load(ctx, path, &truth_rig)) goto fail;
     if (frig_photoset_load(ctx, argv[2], &set)) goto fail;
-    if (truth_pose) set_truth_fits(truth_rig, set, truth_weights, pose_noise);
+    if (truth_pose || truth_weights) set_truth_fits(truth_rig, set, truth_pose, truth_weights, pose_noise);
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
     st.w_stereo = w_stereo, st.pose_steps = pose_steps, st.joint_albedo = joint_albedo;
