@@ -10,6 +10,7 @@
 #include "core/context.h"
 #include "eval/shape_error.h"
 #include "fit/photo_consistency.h"
+#include "fit/photo_fit.h"
 #include "fit/progressive_fit.h"
 #include "frig/synth.h"
 #include "model_fixture.h"
@@ -249,7 +250,23 @@ static void test_photoset(frig_ctx *ctx, const frig_model *m) {
     frig_synth_subject_free(subj);
 }
 
+/* The face's scale that the residual unit and the fit_failed test use: the eye distance on a
+ * frontal face, half the landmarks' height on a turned one whose eyes close up. */
+static void test_face_scale(void) {
+    double q[136];
+    for (int k = 0; k < 68; k++) q[2 * k] = 100, q[2 * k + 1] = 100 + k; /* 67 px tall */
+    for (int k = 36; k < 42; k++) q[2 * k] = 60;  /* right eye centre x 60 */
+    for (int k = 42; k < 48; k++) q[2 * k] = 140; /* left eye centre x 140, at the same mean height as the right */
+    for (int k = 36; k < 42; k++) q[2 * k + 1] = q[2 * (k + 6) + 1] = 130;
+    CHECK_NEAR(fr_fit_eye_distance(q), 80, 1e-9);
+    CHECK_NEAR(fr_fit_face_scale(q), 80, 1e-9);
+    for (int k = 36; k < 42; k++) q[2 * k] = 95;  /* turned: the eyes 10 px apart */
+    for (int k = 42; k < 48; k++) q[2 * k] = 105;
+    CHECK_NEAR(fr_fit_face_scale(q), 33.5, 1e-9);
+}
+
 int main(void) {
+    test_face_scale();
     frig_ctx *ctx = frig_ctx_create();
     frig_model *m = fixture_model(ctx);
     if (!m) return test_skip("the ICT-FaceKit model (../shared/ict-facekit) is not available");

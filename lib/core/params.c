@@ -74,7 +74,7 @@ static const param_row rows[] = {
      "1: mu and sigma are the median and 1.4826 x MAD of the errors; 0: their mean and standard deviation"},
 
     {FRIG_PARAM_FIT_W_EXP, "fit.w_exp", 10, 0, 1e6, 0, "weight of the expression prior (eq. 4.8 w2)"},
-    {FRIG_PARAM_FIT_W_SPARSE, "fit.w_sparse", 40, 0, 1e6, 0, "weight of the L1 expression sparsity (eq. 4.8 w3)"},
+    {FRIG_PARAM_FIT_W_SPARSE, "fit.w_sparse", 100, 0, 1e6, 0, "weight of the L1 expression sparsity (eq. 4.8 w3)"},
     {FRIG_PARAM_FIT_W_ID, "fit.w_id", 20, 0, 1e6, 0, "weight of the identity prior (eq. 4.8 w1)"},
     {FRIG_PARAM_FIT_ROUNDS, "fit.rounds", 3, 1, 20, 1, "rounds of progressive reconstruction"},
     {FRIG_PARAM_FIT_SUBSET_FIRST, "fit.subset_first", 0.4, 0.01, 1, 0, "fraction of photos in the first joint fit"},

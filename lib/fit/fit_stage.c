@@ -13,8 +13,9 @@
 #include "image/image.h"
 #include "workspace/photoset.h"
 
-/* A fit whose RMS landmark error exceeds this share of the eye distance is unusable. */
-#define FIT_FAILED_RMS_PER_EYE_DISTANCE 0.15
+/* A fit whose RMS landmark error exceeds this share of the face's scale (the eye distance, or
+ * half the landmarks' height where a turn makes that larger: fr_fit_face_scale) is unusable. */
+#define FIT_FAILED_RMS_PER_FACE_SCALE 0.15
 #define CROP_SIDE 160
 
 typedef struct usable {
@@ -100,11 +101,11 @@ static frig_status record(frig_ctx *ctx, frig_photoset *set, const fr_fit_model 
         const fr_fit_result *r = &res[a];
         s = fr_photoset_set_fit(ctx, set, u[a].photo, r->R, r->t, r->f, r->perspective, r->w + fm->n_id, r->rms_px,
                                 r->in_joint);
-        double eyes = fr_fit_eye_distance(u[a].landmarks);
-        if (!s && !(r->rms_px <= FIT_FAILED_RMS_PER_EYE_DISTANCE * eyes)) {
+        double scale = fr_fit_face_scale(u[a].landmarks);
+        if (!s && !(r->rms_px <= FIT_FAILED_RMS_PER_FACE_SCALE * scale)) {
             char why[160];
-            snprintf(why, sizeof why, "landmark fit error %.1f px is over %.0f%% of the eye distance (%.1f px)",
-                     r->rms_px, 100 * FIT_FAILED_RMS_PER_EYE_DISTANCE, eyes);
+            snprintf(why, sizeof why, "landmark fit error %.1f px is over %.0f%% of the face's scale (%.1f px)",
+                     r->rms_px, 100 * FIT_FAILED_RMS_PER_FACE_SCALE, scale);
             s = frig_photoset_set_status(ctx, set, u[a].photo, FRIG_PHOTO_FIT_FAILED, why);
         } else if (!s && set->photos[u[a].photo].status == FRIG_PHOTO_FIT_FAILED) {
             s = frig_photoset_set_status(ctx, set, u[a].photo, FRIG_PHOTO_OK, NULL);

@@ -75,15 +75,16 @@ double fr_fit_eye_distance(const double *q) {
  * landmark detector's error, so that the prior weights (eq. 4.8) weigh priors against
  * noise-normalized data. The eye distance is kept from collapsing on profile views by the
  * face height. (The author's code normalizes by the eye distance / 100.) */
-static double residual_unit(const double *q) {
+double fr_fit_face_scale(const double *q) {
     double ymin = 1e300, ymax = -1e300;
     for (int k = 0; k < FR_LANDMARKS; k++) {
         if (q[2 * k + 1] < ymin) ymin = q[2 * k + 1];
         if (q[2 * k + 1] > ymax) ymax = q[2 * k + 1];
     }
-    double d = fmax(fr_fit_eye_distance(q), 0.5 * (ymax - ymin));
-    return fmax(d, 1.0) / 50.0;
+    return fmax(fr_fit_eye_distance(q), 0.5 * (ymax - ymin));
 }
+
+static double residual_unit(const double *q) { return fmax(fr_fit_face_scale(q), 1.0) / 50.0; }
 
 void fr_fit_photo_init_pose(const fr_fit_model *fm, fr_fit_photo *p) {
     /* Affine camera [u v]^T = A [X 1]^T by least squares over the inner landmarks (17..67),

@@ -43,6 +43,9 @@ typedef struct fr_fit_options {
 
 /* Distance between the eye centres (means of landmarks 36-41 and 42-47), pixels. */
 double fr_fit_eye_distance(const double *landmarks);
+/* The face's scale in pixels: the eye distance, kept from collapsing on a turned face by half
+ * the landmarks' height. */
+double fr_fit_face_scale(const double *landmarks);
 
 /* Set up a photo: landmarks (136 values), image size; w must hold n_cols values (owned by
  * the caller). Camera and pose are initialized from the landmarks (affine fit of the

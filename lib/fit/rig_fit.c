@@ -13,7 +13,7 @@
 #include "frig/retarget.h"
 #include "workspace/photoset.h"
 
-#define FIT_FAILED_RMS_PER_EYE_DISTANCE 0.15 /* as frig_fit */
+#define FIT_FAILED_RMS_PER_FACE_SCALE 0.15 /* as frig_fit */
 
 typedef struct refit {
     const fr_fit_model *fm;
@@ -98,11 +98,11 @@ frig_status frig_fit_rig(frig_ctx *ctx, const frig_model *model, const frig_rig 
         s = fr_photoset_set_fit(ctx, set, photo[a], ph->R, ph->t, ph->f, ph->perspective, expr, ph->rms_px,
                                 p->fit_in_joint);
         free(expr);
-        double eyes = fr_fit_eye_distance(fr_photo_subject(p)->landmarks);
-        if (!s && !(ph->rms_px <= FIT_FAILED_RMS_PER_EYE_DISTANCE * eyes)) {
+        double scale = fr_fit_face_scale(fr_photo_subject(p)->landmarks);
+        if (!s && !(ph->rms_px <= FIT_FAILED_RMS_PER_FACE_SCALE * scale)) {
             char why[160];
-            snprintf(why, sizeof why, "landmark fit error on the rig %.1f px is over %.0f%% of the eye distance (%.1f px)",
-                     ph->rms_px, 100 * FIT_FAILED_RMS_PER_EYE_DISTANCE, eyes);
+            snprintf(why, sizeof why, "landmark fit error on the rig %.1f px is over %.0f%% of the face's scale (%.1f px)",
+                     ph->rms_px, 100 * FIT_FAILED_RMS_PER_FACE_SCALE, scale);
             s = frig_photoset_set_status(ctx, set, photo[a], FRIG_PHOTO_FIT_FAILED, why);
         } else if (!s && p->status == FRIG_PHOTO_FIT_FAILED) {
             s = frig_photoset_set_status(ctx, set, photo[a], FRIG_PHOTO_OK, NULL);
