@@ -66,7 +66,9 @@ frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_mode
     if (iterations > 0) st.iterations = iterations;
     st.shape_iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS);
     if (albedo && ctx->rt_defer_albedo) {
-        /* the texture when the loop ends, from the last recovery's computation */
+        /* the texture when the loop ends, from the last recovery's computation; the previous
+         * round's is dropped first, so that only one is ever held */
+        fr_rt_pending_albedo_drop(ctx);
         pending_albedo *q = calloc(1, sizeof *q);
         if (!q) return fr_nomem(ctx, "the outer loop's albedo");
         frig_status s = fr_sfs_stage_keep(ctx, rig, set, &st, &c, &q->run);
@@ -74,7 +76,6 @@ frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_mode
             free(q);
             return s;
         }
-        fr_rt_pending_albedo_drop(ctx);
         q->albedo = albedo;
         ctx->rt_pending = q;
         ctx->rt_pending_free = pending_free;
