@@ -554,7 +554,8 @@ int main(int argc, char **argv) {
             if (sfs && corr == 3) cloud_error_report(ctx, set, clouds, truth, nf);
         }
         double t1 = now();
-        if (frig_retarget(ctx, model, set, clouds, rig)) {
+        /* as frig_retarget_refine: the loop's own iteration counts after the first round */
+        if (r > 0 ? fr_rt_retarget_later_round(ctx, model, set, clouds, rig) : frig_retarget(ctx, model, set, clouds, rig)) {
             fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
             return 1;
         }

@@ -3,7 +3,8 @@
  * the lighting fit, the depth solver on a problem its own model made, and the whole stage on a
  * small synthetic subject: cloud error against the true surface below floors measured on
  * synthetic subjects, an over-exposed photo sfs_failed, results in report.json read back,
- * the same clouds whatever the thread count; the shared shape's joint pose (with the photos'
+ * the same clouds whatever the thread count, the albedo texture drawn later from the kept
+ * computation (the outer loop's) the same bytes; the shared shape's joint pose (with the photos'
  * own gradients) brings fits turned by 4 degrees toward the truth. */
 #include <math.h>
 #include <stdio.h>
@@ -320,6 +321,30 @@ static int scene_in(const char *name, scene *sc, const char **dir) {
     return 1;
 }
 
+/* The outer loop's deferred texture (fr_sfs_stage_keep, then fr_sfs_run_albedo, as
+ * frig_retarget_refine draws it): the same bytes as frig_sfs's albedo. */
+static void check_kept_albedo(const scene *sc, const frig_image *albedo) {
+    fr_sfs_settings st;
+    fr_sfs_settings_from_ctx(ctx, &st);
+    frig_clouds *cl = NULL;
+    fr_sfs_run *run = NULL;
+    frig_image *later = NULL;
+    CHECK(fr_sfs_stage_keep(ctx, sc->rig, sc->set, &st, &cl, &run) == FRIG_OK && run && cl);
+    if (run) CHECK(fr_sfs_run_albedo(ctx, run, &later) == FRIG_OK);
+    int same = albedo && later && frig_image_width(later) == frig_image_width(albedo) &&
+               frig_image_height(later) == frig_image_height(albedo) &&
+               frig_image_stride(later) == frig_image_stride(albedo);
+    if (same)
+        same = !memcmp(frig_image_pixels(later), frig_image_pixels(albedo),
+                       frig_image_stride(albedo) * (size_t)frig_image_height(albedo));
+    printf("kept computation's albedo: %s\n", same ? "the same bytes" : "DIFFERENT");
+    CHECK(same);
+    if (run) fr_sfs_run_free(run);
+    free(run);
+    frig_image_free(later);
+    frig_clouds_free(cl);
+}
+
 static void test_stage(void) {
     const char *dir;
     scene sc;
@@ -395,6 +420,7 @@ static void test_stage(void) {
     }
     printf("1 and 2 threads: %s clouds\n", same ? "the same" : "DIFFERENT");
     CHECK(same);
+    check_kept_albedo(&sc, albedo);
     frig_clouds_free(cl), frig_clouds_free(cl1), frig_image_free(albedo);
     free_scene(&sc);
 }

@@ -47,6 +47,8 @@ typedef frig_status (*frig_clouds_fn)(void *user, frig_ctx *ctx, const frig_mode
  * the set (sfs.* parameters of ctx, no pictures), the new clouds replacing *clouds. user is
  * NULL or a frig_image ** that receives the albedo of the last recovery (the image it held is
  * freed; the caller frees the last). Photos sfs marks sfs_failed give no cloud that round.
+ * Called by frig_retarget_refine, it draws the albedo texture only for the loop's last recovery,
+ * when the loop ends (the same image; *user is set then).
  * Usage: frig_retarget_refine(ctx, model, set, &clouds, rig, frig_retarget_recover_sfs, &albedo). */
 FRIG_API frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_model *model,
                                                const frig_rig *rig, frig_photoset *set, frig_clouds **clouds);

@@ -18,7 +18,10 @@ frig_ctx *frig_ctx_create(void) {
     return ctx;
 }
 
-void frig_ctx_free(frig_ctx *ctx) { free(ctx); }
+void frig_ctx_free(frig_ctx *ctx) {
+    if (ctx && ctx->rt_pending && ctx->rt_pending_free) ctx->rt_pending_free(ctx->rt_pending);
+    free(ctx);
+}
 
 const char *frig_ctx_errmsg(const frig_ctx *ctx) { return ctx ? ctx->errmsg : "no context"; }
 frig_status frig_ctx_status(const frig_ctx *ctx) { return ctx ? ctx->status : FRIG_ERR_INVALID_ARGUMENT; }

@@ -22,6 +22,12 @@ struct frig_ctx {
     frig_status status;
     char errmsg[FR_ERRMSG_SIZE];
     double params[FR_PARAM_MAX];
+    /* retarget's outer loop (lib/retarget/refine.c): 1 while a loop runs, so that a recovery of the
+     * clouds keeps its sfs computation for the albedo texture instead of drawing it each round
+     * (only the last one's is kept); that computation, freed with the context if still held */
+    int rt_defer_albedo;
+    void *rt_pending;
+    void (*rt_pending_free)(void *);
 };
 
 /* Set the context's error and return 'status' (so callers can 'return fr_error(...)').

@@ -2,7 +2,8 @@
  *     (smooth Q + tikhonov M + sum_c w_c b_c b_c^T) u = sum_c w_c b_c r_c^T
  * in one fixed sparse pattern (that of Q, which holds every pair of vertices sharing a
  * triangle), so each solve is a numeric refactorization of an analysis made once; the values
- * go to CHOLMOD in the pattern's order, without conversion. */
+ * go to CHOLMOD in the pattern's order, without conversion. The factor is simplicial: refactored
+ * for every solve (the constraints change), a face-sized system factors faster so. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,7 +69,7 @@ frig_status fr_lap_system_create(frig_ctx *ctx, int nv, const int32_t *tris, int
         double mean_diag = 0;
         for (int v = 0; v < nv && !s; v++) mean_diag += fabs(A.x[fr_csr_find(&A, v, v)]) / nv;
         for (int v = 0; v < nv && !s; v++) A.x[fr_csr_find(&A, v, v)] += mean_diag + 1e-12;
-        if (!s) s = fr_cholesky_create_csr(ctx, &A, &sys->proto);
+        if (!s) s = fr_cholesky_create_csr(ctx, &A, 1, &sys->proto);
         fr_csr_free(&A);
     }
     if (s) {

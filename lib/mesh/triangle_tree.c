@@ -2,7 +2,9 @@
  * children come after it, so a reverse sweep refits the boxes bottom-up), leaves of at most
  * LEAF_SIZE triangles, split at the median centroid along the widest axis of the centroids.
  * Nearest-point queries descend the nearer child first and prune boxes farther than the best
- * distance found. */
+ * distance found. Each leaf's triangles keep their corners' boxes side by side (tbox, in the
+ * leaves' order, set at every build and refit), so the test that skips a triangle reads six
+ * floats in a row instead of its three corners. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,6 +27,7 @@ struct fr_tri_tree {
     const int32_t *tris;
     int nt;
     int *order; /* triangle indices, grouped by leaf */
+    float *tbox; /* per entry of order: its triangle's corner box, lo[3] then hi[3] */
     node *nodes;
     int n_nodes;
     float *centroid; /* 3 per triangle, build only */
@@ -44,7 +47,7 @@ static void tri_box(const fr_tri_tree *t, int tri, float lo[3], float hi[3]) {
 static void leaf_box(const fr_tri_tree *t, node *nd) {
     for (int k = 0; k < 3; k++) nd->lo[k] = INFINITY, nd->hi[k] = -INFINITY;
     for (int i = nd->first; i < nd->first + nd->count; i++) {
-        float lo[3], hi[3];
+        float *lo = t->tbox + 6 * (size_t)i, *hi = lo + 3;
         tri_box(t, t->order[i], lo, hi);
         for (int k = 0; k < 3; k++) {
             if (lo[k] < nd->lo[k]) nd->lo[k] = lo[k];
@@ -124,9 +127,10 @@ frig_status fr_tri_tree_build(frig_ctx *ctx, const float *xyz, const int32_t *tr
     t->tris = tris;
     t->nt = nt;
     t->order = malloc(sizeof(int) * ((size_t)nt + 1));
+    t->tbox = malloc(sizeof(float) * 6 * ((size_t)nt + 1));
     t->nodes = malloc(sizeof(node) * (2 * (size_t)nt + 1));
     t->centroid = malloc(sizeof(float) * 3 * ((size_t)nt + 1));
-    if (!t->order || !t->nodes || !t->centroid) {
+    if (!t->order || !t->tbox || !t->nodes || !t->centroid) {
         fr_tri_tree_free(t);
         return fr_nomem(ctx, "a triangle tree");
     }
@@ -152,12 +156,14 @@ frig_status fr_tri_tree_copy(frig_ctx *ctx, const fr_tri_tree *src, fr_tri_tree 
     *t = *src;
     t->centroid = NULL;
     t->order = malloc(sizeof(int) * ((size_t)src->nt + 1));
+    t->tbox = malloc(sizeof(float) * 6 * ((size_t)src->nt + 1));
     t->nodes = malloc(sizeof(node) * ((size_t)src->n_nodes + 1));
-    if (!t->order || !t->nodes) {
+    if (!t->order || !t->tbox || !t->nodes) {
         fr_tri_tree_free(t);
         return fr_nomem(ctx, "a triangle tree");
     }
     memcpy(t->order, src->order, sizeof(int) * (size_t)src->nt);
+    memcpy(t->tbox, src->tbox, sizeof(float) * 6 * (size_t)src->nt);
     memcpy(t->nodes, src->nodes, sizeof(node) * (size_t)src->n_nodes);
     *out = t;
     return FRIG_OK;
@@ -166,6 +172,7 @@ frig_status fr_tri_tree_copy(frig_ctx *ctx, const fr_tri_tree *src, fr_tri_tree 
 void fr_tri_tree_free(fr_tri_tree *t) {
     if (!t) return;
     free(t->order);
+    free(t->tbox);
     free(t->nodes);
     free(t->centroid);
     free(t);
@@ -206,13 +213,22 @@ static double corner_box_dist2(const float *a, const float *b, const float *c, c
     return d2;
 }
 
-/* Distance from p to triangle tri into hit when it beats hit's (ties to the lower index). A
- * triangle whose corners' box is clearly farther than the best so far cannot win (the margin
- * covers rounding), so the exact test is skipped: the same answer. */
-static void try_triangle(const fr_tri_tree *t, const double p[3], int tri, fr_tri_hit *hit) {
+/* Squared distance from p to a box (lo[3], hi[3]): corner_box_dist2 of the box's corners. */
+static double stored_box_dist2(const float *box, const double p[3]) {
+    double d2 = 0;
+    for (int k = 0; k < 3; k++) {
+        float lo = box[k], hi = box[3 + k];
+        double d = p[k] < lo ? lo - p[k] : p[k] > hi ? p[k] - hi : 0;
+        d2 += d * d;
+    }
+    return d2;
+}
+
+/* The exact distance from p to triangle tri into hit when it beats hit's (ties to the lower
+ * index). */
+static void exact_triangle(const fr_tri_tree *t, const double p[3], int tri, fr_tri_hit *hit) {
     const int32_t *v = t->tris + 3 * (size_t)tri;
     const float *fa = t->xyz + 3 * (size_t)v[0], *fb = t->xyz + 3 * (size_t)v[1], *fc = t->xyz + 3 * (size_t)v[2];
-    if (corner_box_dist2(fa, fb, fc, p) > hit->dist2 * (1 + 1e-9) + 1e-24) return;
     double a[3], b[3], c[3], q[3], w[3];
     for (int k = 0; k < 3; k++) a[k] = fa[k], b[k] = fb[k], c[k] = fc[k];
     double d2 = fr_closest_point_triangle(p, a, b, c, q, w);
@@ -221,6 +237,21 @@ static void try_triangle(const fr_tri_tree *t, const double p[3], int tri, fr_tr
         hit->tri = tri;
         for (int k = 0; k < 3; k++) hit->point[k] = q[k], hit->bary[k] = w[k];
     }
+}
+
+/* A triangle whose corners' box is clearly farther than the best so far cannot win (the margin
+ * covers rounding), so the exact test is skipped: the same answer. */
+static int cannot_win(double box_d2, const fr_tri_hit *hit) { return box_d2 > hit->dist2 * (1 + 1e-9) + 1e-24; }
+
+static void try_triangle(const fr_tri_tree *t, const double p[3], int tri, fr_tri_hit *hit) {
+    const int32_t *v = t->tris + 3 * (size_t)tri;
+    const float *fa = t->xyz + 3 * (size_t)v[0], *fb = t->xyz + 3 * (size_t)v[1], *fc = t->xyz + 3 * (size_t)v[2];
+    if (!cannot_win(corner_box_dist2(fa, fb, fc, p), hit)) exact_triangle(t, p, tri, hit);
+}
+
+/* The same for entry i of the leaves' order, from its stored box. */
+static void try_entry(const fr_tri_tree *t, const double p[3], int i, fr_tri_hit *hit) {
+    if (!cannot_win(stored_box_dist2(t->tbox + 6 * (size_t)i, p), hit)) exact_triangle(t, p, t->order[i], hit);
 }
 
 int fr_tri_tree_nearest(const fr_tri_tree *t, const double p[3], double max_dist, fr_tri_hit *hit) {
@@ -241,7 +272,7 @@ int fr_tri_tree_nearest_hint(const fr_tri_tree *t, const double p[3], double max
         if (dist[top] > hit->dist2) continue;
         const node *nd = &t->nodes[stack[top]];
         if (nd->count > 0 || nd->left < 0) {
-            for (int i = nd->first; i < nd->first + nd->count; i++) try_triangle(t, p, t->order[i], hit);
+            for (int i = nd->first; i < nd->first + nd->count; i++) try_entry(t, p, i, hit);
             continue;
         }
         /* Push the farther child first, so the nearer is searched first; a child already

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/sort.h"
 #include "linalg/linalg.h"
 #include "mesh/triangle_tree.h"
 #include "raster/rotation.h"
@@ -24,13 +25,9 @@
 
 /* ---- thinning ---- */
 
-typedef struct keyed {
-    uint64_t key;
-    int index;
-} keyed;
-
+/* Points by grid cell, then index (the radix sort's fallback when its buffer cannot be had). */
 static int keyed_cmp(const void *a, const void *b) {
-    const keyed *x = a, *y = b;
+    const fr_sort_item *x = a, *y = b;
     if (x->key != y->key) return x->key < y->key ? -1 : 1;
     return (x->index > y->index) - (x->index < y->index);
 }
@@ -40,7 +37,7 @@ frig_status fr_rt_thin_cloud(frig_ctx *ctx, const fr_rt_settings *s, fr_rt_photo
     free(p->hint);
     p->pick = p->hint = NULL;
     p->n_pick = 0;
-    keyed *k = malloc(sizeof(keyed) * (p->n_points + 1));
+    fr_sort_item *k = malloc(sizeof(fr_sort_item) * (p->n_points + 1));
     p->pick = malloc(sizeof(int) * (p->n_points + 1));
     p->hint = malloc(sizeof(int) * (p->n_points + 1));
     if (!k || !p->pick || !p->hint) {
@@ -62,7 +59,7 @@ frig_status fr_rt_thin_cloud(frig_ctx *ctx, const fr_rt_settings *s, fr_rt_photo
         k[n].key = key;
         k[n++].index = (int)i;
     }
-    qsort(k, n, sizeof(keyed), keyed_cmp);
+    if (fr_sort_stable(k, n)) qsort(k, n, sizeof *k, keyed_cmp); /* in index order: by cell, then index */
     for (size_t i = 0; i < n; i++)
         if (i == 0 || k[i].key != k[i - 1].key) p->hint[p->n_pick] = -1, p->pick[p->n_pick++] = k[i].index;
     free(k);

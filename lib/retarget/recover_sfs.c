@@ -4,13 +4,55 @@
  * Each photo's depth takes retarget.sfs_iterations Gauss-Newton iterations instead of the
  * stage's sfs.iterations: the rig it starts from has the previous round's clouds in it
  * (measured in docs/retarget.md, "Time per outer iteration": a third of the depth's time, the
- * synthetic subject's neutral no worse). */
+ * synthetic subject's neutral no worse).
+ * Inside frig_retarget_refine the albedo texture (the export's; 2-3 CPU s at 512 texels) is
+ * not drawn in every recovery: the recovery keeps its computation and the loop draws the last
+ * one's texture when it ends (fr_rt_pending_albedo_finish), the same bytes as before. */
 #include <stdlib.h>
 
+#include "core/clock.h"
 #include "core/context.h"
 #include "frig/retarget.h"
 #include "frig/sfs.h"
+#include "retarget/retarget.h"
 #include "sfs/sfs_run.h"
+
+/* A recovery's computation waiting for its albedo texture, and where the texture goes. */
+typedef struct pending_albedo {
+    fr_sfs_run *run;
+    frig_image **albedo;
+} pending_albedo;
+
+static void pending_free(void *p) {
+    pending_albedo *q = p;
+    if (!q) return;
+    if (q->run) fr_sfs_run_free(q->run);
+    free(q->run);
+    free(q);
+}
+
+void fr_rt_pending_albedo_drop(frig_ctx *ctx) {
+    pending_free(ctx->rt_pending);
+    ctx->rt_pending = NULL;
+    ctx->rt_pending_free = NULL;
+}
+
+frig_status fr_rt_pending_albedo_finish(frig_ctx *ctx) {
+    pending_albedo *q = ctx->rt_pending;
+    if (!q) return FRIG_OK;
+    fr_stopwatch t = fr_stopwatch_start();
+    frig_image *a = NULL;
+    frig_status s = fr_sfs_run_albedo(ctx, q->run, &a);
+    if (!s) {
+        frig_image_free(*q->albedo);
+        *q->albedo = a;
+        double wall = 0, cpu = 0;
+        fr_stopwatch_read(&t, &wall, &cpu);
+        fr_log(ctx, FRIG_LOG_DEBUG, "retarget: the last recovery's albedo texture %.2f s (%.2f CPU s)", wall, cpu);
+    }
+    fr_rt_pending_albedo_drop(ctx);
+    return s;
+}
 
 frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
                                       frig_photoset *set, frig_clouds **clouds) {
@@ -22,6 +64,25 @@ frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_mode
     fr_sfs_settings_from_ctx(ctx, &st);
     int iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_ITERATIONS);
     if (iterations > 0) st.iterations = iterations;
+    st.shape_iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS);
+    if (albedo && ctx->rt_defer_albedo) {
+        /* the texture when the loop ends, from the last recovery's computation; the previous
+         * round's is dropped first, so that only one is ever held */
+        fr_rt_pending_albedo_drop(ctx);
+        pending_albedo *q = calloc(1, sizeof *q);
+        if (!q) return fr_nomem(ctx, "the outer loop's albedo");
+        frig_status s = fr_sfs_stage_keep(ctx, rig, set, &st, &c, &q->run);
+        if (s) {
+            free(q);
+            return s;
+        }
+        q->albedo = albedo;
+        ctx->rt_pending = q;
+        ctx->rt_pending_free = pending_free;
+        frig_clouds_free(*clouds);
+        *clouds = c;
+        return FRIG_OK;
+    }
     frig_status s = fr_sfs_stage(ctx, rig, set, &st, NULL, &c, albedo ? &a : NULL);
     if (s) return s;
     frig_clouds_free(*clouds);

@@ -3,7 +3,8 @@
  *     through a callback) -> retarget (frig_retarget),
  * the first round taking the fit and the clouds as they are. The paper runs three rounds; the
  * loop stops sooner when a round moves the neutral by less than retarget.stop_mm on average
- * over the face: the rig has stopped changing. */
+ * over the face: the rig has stopped changing. frig_retarget_recover_sfs's albedo texture is
+ * drawn once, from the last recovery, when the loop ends (recover_sfs.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,8 +13,24 @@
 #include "core/context.h"
 #include "frig/retarget.h"
 #include "model/model.h"
+#include "retarget/retarget.h"
 #include "rig/rig.h"
 #include "workspace/photoset.h"
+
+frig_status fr_rt_retarget_later_round(frig_ctx *ctx, const frig_model *model, frig_photoset *set,
+                                       const frig_clouds *clouds, frig_rig *rig) {
+    int id_loop = fr_param_int(ctx, FRIG_PARAM_RETARGET_LOOP_IDENTITY_ITERATIONS);
+    int deform_loop = fr_param_int(ctx, FRIG_PARAM_RETARGET_LOOP_DEFORM_ITERATIONS);
+    double id = fr_param(ctx, FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS);
+    double deform = fr_param(ctx, FRIG_PARAM_RETARGET_DEFORM_ITERATIONS);
+    frig_status s = FRIG_OK;
+    if (id_loop >= 0) s = frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS, id_loop);
+    if (!s && deform_loop > 0) s = frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_DEFORM_ITERATIONS, deform_loop);
+    if (!s) s = frig_retarget(ctx, model, set, clouds, rig);
+    frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS, id);
+    frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_DEFORM_ITERATIONS, deform);
+    return s;
+}
 
 frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_photoset *set, frig_clouds **clouds,
                                  frig_rig *rig, frig_clouds_fn recover, void *user) {
@@ -31,6 +48,9 @@ frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_ph
     if (!before) return fr_nomem(ctx, "the outer loop");
     frig_status s = FRIG_OK;
     set->rt_rounds = 0; /* this run's rounds only */
+    int defer = ctx->rt_defer_albedo;
+    fr_rt_pending_albedo_drop(ctx);
+    ctx->rt_defer_albedo = 1;
     for (int r = 0; r < rounds && !s; r++) {
         fr_stopwatch t0 = fr_stopwatch_start();
         double part[3] = {0, 0, 0}, c0 = fr_cpu_seconds(); /* CPU s: refit, recovery, retarget */
@@ -41,7 +61,7 @@ frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_ph
             part[1] = fr_cpu_seconds() - c0 - part[0];
         }
         memcpy(before, frig_rig_neutral(rig), sizeof(float) * 3 * (size_t)nf);
-        if (!s) s = frig_retarget(ctx, model, set, *clouds, rig);
+        if (!s) s = r > 0 ? fr_rt_retarget_later_round(ctx, model, set, *clouds, rig) : frig_retarget(ctx, model, set, *clouds, rig);
         double wall = 0, cpu = 0;
         fr_stopwatch_read(&t0, &wall, &cpu);
         part[2] = cpu - part[0] - part[1];
@@ -64,6 +84,9 @@ frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_ph
                part[0], part[1], part[2]);
         if (q.change_mm < stop) break;
     }
+    if (!s) s = fr_rt_pending_albedo_finish(ctx);
+    fr_rt_pending_albedo_drop(ctx);
+    ctx->rt_defer_albedo = defer;
     free(before);
     return s;
 }

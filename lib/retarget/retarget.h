@@ -167,4 +167,15 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
 frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, const float *old_neutral,
                              const float *old_deltas, const float *ref_neutral, const float *ref_deltas, frig_rig *rig);
 
+/* The outer loop's last recovery kept its sfs computation (recover_sfs.c, while
+ * ctx->rt_defer_albedo): draw its albedo texture into the recovery's frig_image ** and free it
+ * (nothing when none is kept); or only free it. */
+frig_status fr_rt_pending_albedo_finish(frig_ctx *ctx);
+
+/* frig_retarget in an outer round after the first (refine.c), with the loop's own iteration
+ * counts (retarget.loop_*); the context's parameters as they were afterwards. */
+frig_status fr_rt_retarget_later_round(frig_ctx *ctx, const frig_model *model, frig_photoset *set,
+                                       const frig_clouds *clouds, frig_rig *rig);
+void fr_rt_pending_albedo_drop(frig_ctx *ctx);
+
 #endif

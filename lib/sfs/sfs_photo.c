@@ -8,6 +8,7 @@
 
 #include "core/context.h"
 #include "core/select.h"
+#include "core/sort.h"
 #include "sfs/sfs.h"
 #include "sfs/sfs_depth.h"
 #include "sfs/sfs_photo.h"
@@ -84,6 +85,28 @@ static int cmp_ranked(const void *a, const void *b) {
     return x->v < y->v ? -1 : x->v > y->v ? 1 : x->i - y->i;
 }
 
+/* p (in index order) by value, then index: qsort's order with cmp_ranked, by the linear-time
+ * radix sort when no value is NaN (cmp_ranked's order is then total, so both give it). */
+static void sort_ranked(ranked *p, int m) {
+    fr_sort_item *k = malloc(sizeof *k * (size_t)(m + 1));
+    int ok = k != NULL;
+    for (int j = 0; ok && j < m; j++) {
+        if (isnan(p[j].v)) ok = 0;
+        else k[j].key = fr_sort_key_double(p[j].v), k[j].index = j;
+    }
+    if (ok && !fr_sort_stable(k, (size_t)m)) {
+        ranked *sorted = malloc(sizeof *sorted * (size_t)(m + 1));
+        if (sorted) {
+            for (int j = 0; j < m; j++) sorted[j] = p[k[j].index];
+            memcpy(p, sorted, sizeof *p * (size_t)m);
+            free(sorted), free(k);
+            return;
+        }
+    }
+    free(k);
+    qsort(p, (size_t)m, sizeof *p, cmp_ranked);
+}
+
 double fr_sfs_photo_agreement(const fr_sfs_view *v) {
     size_t n = (size_t)v->w * v->h;
     int m = 0;
@@ -107,8 +130,8 @@ double fr_sfs_photo_agreement(const fr_sfs_view *v) {
         pa[k].v = a, pa[k].i = k, pb[k].v = b, pb[k].i = k;
         k++;
     }
-    qsort(pa, (size_t)m, sizeof *pa, cmp_ranked);
-    qsort(pb, (size_t)m, sizeof *pb, cmp_ranked);
+    sort_ranked(pa, m);
+    sort_ranked(pb, m);
     for (int r = 0; r < m; r++) ra[pa[r].i] = r;
     double d2 = 0;
     for (int r = 0; r < m; r++) {

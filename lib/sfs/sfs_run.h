@@ -29,5 +29,12 @@ void fr_sfs_run_free(fr_sfs_run *run);
 /* frig_sfs with the settings given instead of the context's (the outer loop's recovery). */
 frig_status fr_sfs_stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
                          const char *overlay_dir, frig_clouds **clouds, frig_image **albedo);
+/* The same without the albedo texture and without pictures: the computation is handed over in
+ * *keep (free it with fr_sfs_run_free, then free) for fr_sfs_run_albedo later (the outer loop
+ * draws only its last recovery's texture). */
+frig_status fr_sfs_stage_keep(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
+                              frig_clouds **clouds, fr_sfs_run **keep);
+/* The albedo texture of a computation (what fr_sfs_stage gives in *albedo), the same bytes. */
+frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *run, frig_image **out);
 
 #endif

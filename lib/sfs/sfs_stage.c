@@ -96,7 +96,7 @@ static frig_status finish_one(frig_ctx *ctx, size_t k, void *user) {
 /* The subject's albedo as an sRGB texture of sfs.texture_size texels (Algorithm 5 once more, on
  * the final lighting and the shared shape's normals); texels no photo saw take the average of
  * their seen neighbours, grown outward a few texels, then the mean skin colour. */
-static frig_status albedo_image(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
+frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
     fr_sfs_uv uv;
     fr_sfs_albedo a;
     memset(&a, 0, sizeof a);
@@ -159,8 +159,22 @@ frig_status frig_sfs(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, con
     return fr_sfs_stage(ctx, rig, set, &st, overlay_dir, clouds, albedo);
 }
 
+static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
+                         const char *overlay_dir, frig_clouds **clouds, frig_image **albedo, fr_sfs_run **keep);
+
 frig_status fr_sfs_stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
                          const char *overlay_dir, frig_clouds **clouds, frig_image **albedo) {
+    return stage(ctx, rig, set, st, overlay_dir, clouds, albedo, NULL);
+}
+
+frig_status fr_sfs_stage_keep(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
+                              frig_clouds **clouds, fr_sfs_run **keep) {
+    *keep = NULL;
+    return stage(ctx, rig, set, st, NULL, clouds, NULL, keep);
+}
+
+static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
+                         const char *overlay_dir, frig_clouds **clouds, frig_image **albedo, fr_sfs_run **keep) {
     if (clouds) *clouds = NULL;
     if (albedo) *albedo = NULL;
     if (!rig || !set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_sfs: NULL rig or photo set");
@@ -216,13 +230,15 @@ frig_status fr_sfs_stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set,
         }
     }
     (void)usable;
-    if (!s && albedo) s = albedo_image(ctx, &run, albedo);
+    if (!s && albedo) s = fr_sfs_run_albedo(ctx, &run, albedo);
     cpu[2] = fr_cpu_seconds();
     fr_log(ctx, FRIG_LOG_DEBUG, "sfs (CPU s): regions, poses, clouds%s %.2f, albedo texture %.2f",
            overlay_dir ? " and pictures" : "", cpu[1] - cpu[0], cpu[2] - cpu[1]);
     for (int k = 0; job.xyz && k < run.n; k++) free(job.xyz[k]), free(job.nrm[k]), free(job.conf[k]);
     free(job.xyz), free(job.nrm), free(job.conf), free(job.count);
-    fr_sfs_run_free(&run);
+    if (!s && keep && !(*keep = malloc(sizeof run))) s = fr_nomem(ctx, "the sfs computation");
+    if (!s && keep) **keep = run; /* handed over whole */
+    else fr_sfs_run_free(&run);
     if (s) {
         frig_clouds_free(cl);
         if (albedo) frig_image_free(*albedo), *albedo = NULL;

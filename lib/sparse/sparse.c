@@ -235,7 +235,7 @@ frig_status fr_cholesky_solve_lsq(frig_ctx *ctx, fr_cholesky *ch, int nrhs, cons
     return FRIG_OK;
 }
 
-frig_status fr_cholesky_create_csr(frig_ctx *ctx, const fr_csr *lower, fr_cholesky **out) {
+frig_status fr_cholesky_create_csr(frig_ctx *ctx, const fr_csr *lower, int simplicial, fr_cholesky **out) {
     *out = NULL;
     int n = lower->rows;
     size_t nnz = 0;
@@ -243,6 +243,7 @@ frig_status fr_cholesky_create_csr(frig_ctx *ctx, const fr_csr *lower, fr_choles
         for (int k = lower->start[r]; k < lower->start[r + 1] && lower->col[k] <= r; k++) nnz++;
     fr_cholesky *ch = cholesky_new();
     if (!ch) return fr_nomem(ctx, "a sparse factorization");
+    if (simplicial) ch->cc.supernodal = CHOLMOD_SIMPLICIAL;
     ch->n = n;
     /* Row r of the lower triangle, read as column r of the upper: CHOLMOD's stype = 1. */
     ch->M = cholmod_allocate_sparse((size_t)n, (size_t)n, nnz, 1, 1, 1, CHOLMOD_REAL, &ch->cc);

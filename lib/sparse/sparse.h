@@ -51,9 +51,12 @@ void fr_cholesky_free(fr_cholesky *ch);
 /* A symmetric system whose pattern is fixed and whose values change: 'lower' is a square CSR
  * matrix of which the entries with column <= row are used (its values too, for a first
  * factorization). fr_cholesky_refactor_values then takes new values in the same order (one
- * per such entry) without any conversion. */
+ * per such entry) without any conversion. simplicial: a simplicial (column by column) factor
+ * instead of CHOLMOD's choice, for small systems refactored many times (the supernodal one's
+ * BLAS calls and workspace cost more than they save there: a 9,409-vertex mesh Laplacian with
+ * 222,000 factor entries factors about 25% faster). */
 struct fr_csr;
-frig_status fr_cholesky_create_csr(frig_ctx *ctx, const struct fr_csr *lower, fr_cholesky **out);
+frig_status fr_cholesky_create_csr(frig_ctx *ctx, const struct fr_csr *lower, int simplicial, fr_cholesky **out);
 frig_status fr_cholesky_refactor_values(frig_ctx *ctx, fr_cholesky *ch, const double *values);
 /* Number of values fr_cholesky_refactor_values takes. */
 size_t fr_cholesky_value_count(const fr_cholesky *ch);
