@@ -122,17 +122,46 @@ static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int po
     }
 }
 
+/* The rotation error of the poses R (9 per photo) against the truth's after the head-frame turn
+ * common to all of them (a gauge for the shared solve): per photo into err, stats into st (mean,
+ * median, p90); returns the common turn in degrees. */
+static double common_turn_error(const double *R, const double *Rtrue, int rows, double *err, double st[3]) {
+    double wm[3] = {0, 0, 0}, Qm[9];
+    for (int k = 0; k < rows; k++) {
+        double Rt[9], Q[9], w[3];
+        fr_mat3_transpose(Rtrue + 9 * k, Rt);
+        fr_mat3_mul(Rt, R + 9 * k, Q);
+        fr_rotation_to_axis_angle(Q, w);
+        for (int q = 0; q < 3; q++) wm[q] += w[q] / rows;
+    }
+    fr_rotation_from_axis_angle(wm, Qm);
+    for (int k = 0; k < rows; k++) {
+        double RQ[9];
+        fr_mat3_mul(Rtrue + 9 * k, Qm, RQ);
+        err[k] = fr_rotation_angle_deg(R + 9 * k, RQ);
+    }
+    fr_error_stats(err, rows, &st[0], &st[1], &st[2]);
+    return 57.29578 * sqrt(wm[0] * wm[0] + wm[1] * wm[1] + wm[2] * wm[2]);
+}
+
+static void log_stderr(void *user, frig_log_level level, const char *msg) {
+    (void)user, (void)level;
+    fprintf(stderr, "%s\n", msg);
+}
+
 int main(int argc, char **argv) {
     if (argc < 3) {
         fprintf(stderr, "usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose] "
                         "[--truth-weights] [--truth-expression] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo] "
                         "[--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] "
-                        "[--pose-noise DEG]\n");
+                        "[--pose-noise DEG] [--pose-levels N] [--pose-sigma PX]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
-    int truth_pose = 0, truth_weights = 0, quiet = 0, pose_steps = 0, joint_albedo = 0, shape_iterations = 0;
-    double w_stereo = 0, shape_sigma = 0, oracle_deg = 0, pose_noise = 0;
+    /* the shared shape's options: -1 keeps the sfs.* parameter's value (--set) */
+    int truth_pose = 0, truth_weights = 0, quiet = 0, pose_steps = -1, joint_albedo = -1, shape_iterations = -1;
+    double w_stereo = -1, shape_sigma = -1, oracle_deg = 0, pose_noise = 0, pose_sigma = -1;
+    int pose_levels = -1;
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
             if (bench_set_param(ctx, argv[++i])) return 2;
@@ -141,6 +170,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--truth-weights")) truth_pose = truth_weights = 1;
         else if (!strcmp(argv[i], "--truth-expression")) truth_weights = 1;
         else if (!strcmp(argv[i], "--quiet")) quiet = 1;
+        else if (!strcmp(argv[i], "--verbose")) frig_ctx_set_log(ctx, log_stderr, NULL, FRIG_LOG_DEBUG);
         else if (!strcmp(argv[i], "--stereo") && i + 1 < argc) w_stereo = atof(argv[++i]);
         else if (!strcmp(argv[i], "--joint-pose") && i + 1 < argc) pose_steps = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--joint-albedo")) joint_albedo = 1;
@@ -148,6 +178,8 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--pose-noise") && i + 1 < argc) pose_noise = atof(argv[++i]);
         else if (!strcmp(argv[i], "--shape-iterations") && i + 1 < argc) shape_iterations = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--shape-sigma") && i + 1 < argc) shape_sigma = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--pose-levels") && i + 1 < argc) pose_levels = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--pose-sigma") && i + 1 < argc) pose_sigma = atof(argv[++i]);
         else {
             fprintf(stderr, "unknown argument %s\n", argv[i]);
             return 2;
@@ -164,8 +196,13 @@ int main(int argc, char **argv) {
     if (truth_pose || truth_weights) set_truth_fits(truth_rig, set, truth_pose, truth_weights, pose_noise);
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
-    st.w_stereo = w_stereo, st.pose_steps = pose_steps, st.joint_albedo = joint_albedo;
-    st.shape_iterations = shape_iterations, st.shape_sigma = shape_sigma;
+    if (w_stereo >= 0) st.w_stereo = w_stereo;
+    if (pose_steps >= 0) st.pose_steps = pose_steps;
+    if (joint_albedo >= 0) st.joint_albedo = joint_albedo;
+    if (pose_levels >= 0) st.pose_levels = pose_levels;
+    if (pose_sigma > 0) st.pose_sigma_px = pose_sigma;
+    if (shape_iterations > 0) st.shape_iterations = shape_iterations;
+    if (shape_sigma > 0) st.shape_sigma = shape_sigma;
     uint8_t *oracle = NULL;
     if (oracle_deg > 0) {
         /* the shared shape from the photos whose fit is within oracle_deg of the truth's rotation */
@@ -224,7 +261,7 @@ int main(int argc, char **argv) {
     double *mf = malloc(sizeof(double) * (size_t)(run.n + 1)), *rb = malloc(sizeof(double) * (size_t)(run.n + 1));
     double *ra = malloc(sizeof(double) * (size_t)(run.n + 1)), *rj = malloc(sizeof(double) * (size_t)(run.n + 1));
     double *qw = malloc(sizeof(double) * 3 * (size_t)(run.n + 1)), *Rtrue = malloc(sizeof(double) * 9 * (size_t)(run.n + 1));
-    double *Rfit = malloc(sizeof(double) * 9 * (size_t)(run.n + 1));
+    double *Rfit = malloc(sizeof(double) * 9 * (size_t)(run.n + 1)), *Rjs = malloc(sizeof(double) * 9 * (size_t)(run.n + 1));
     long bad = 0, good = 0, bad_skin = 0, bad_kept = 0, good_skin = 0, good_kept = 0;
     int rows = 0;
     for (int k = 0; k < run.n; k++) {
@@ -283,6 +320,7 @@ int main(int argc, char **argv) {
             fr_rotation_to_axis_angle(Q, w);
             memcpy(qw + 3 * rows, w, sizeof w), memcpy(Rtrue + 9 * rows, tr.R, sizeof tr.R);
             memcpy(Rfit + 9 * rows, p->fit_rotation, sizeof tr.R);
+            memcpy(Rjs + 9 * rows, v->R, sizeof tr.R);
         }
         if (!quiet)
             printf("%-14s %6.1f %6.2f %6.2f %5d | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f | %6.2f %6.2f %6.2f\n", base,
@@ -303,19 +341,11 @@ int main(int argc, char **argv) {
     printf("%d photos scored; per-photo mean error, mean (median) over photos: cloud %.3f (%.3f) mm, reference %.3f (%.3f), "
            "fit %.3f (%.3f); cloud / fit %.3f\n",
            rows, a[0], a[1], b[0], b[1], d[0], d[1], d[0] > 0 ? a[0] / d[0] : NAN);
-    double h[3], wm[3] = {0, 0, 0}, Qm[9], cm[3];
-    /* the fit's turn common to all photos (a head-frame rotation: a gauge for the shared solve) */
-    for (int k = 0; k < rows; k++)
-        for (int q = 0; q < 3; q++) wm[q] += qw[3 * k + q] / rows;
-    fr_rotation_from_axis_angle(wm, Qm);
-    for (int k = 0; k < rows; k++) {
-        double RQ[9];
-        fr_mat3_mul(Rtrue + 9 * k, Qm, RQ);
-        qw[k] = fr_rotation_angle_deg(Rfit + 9 * k, RQ);
-    }
-    fr_error_stats(qw, rows, &cm[0], &cm[1], &cm[2]);
-    printf("the fit's rotation error after its common turn (%.2f deg): mean %.2f (median %.2f) deg\n",
-           57.29578 * sqrt(wm[0] * wm[0] + wm[1] * wm[1] + wm[2] * wm[2]), cm[0], cm[1]);
+    double h[3], cm[3], turn = common_turn_error(Rfit, Rtrue, rows, qw, cm);
+    printf("the fit's rotation error after its common turn (%.2f deg): mean %.2f (median %.2f) deg\n", turn, cm[0], cm[1]);
+    turn = common_turn_error(Rjs, Rtrue, rows, qw, cm);
+    printf("the shared solve's rotation error after its common turn (%.2f deg): mean %.2f (median %.2f) deg\n", turn,
+           cm[0], cm[1]);
     fr_error_stats(rj, rows, &h[0], &h[1], &h[2]);
     printf("rotation error: fit mean %.2f (median %.2f) deg, the shared solve's %.2f (%.2f), refined by ICP %.2f (%.2f) deg\n",
            e[0], e[1], h[0], h[1], g[0], g[1]);
@@ -325,7 +355,7 @@ int main(int argc, char **argv) {
                100.0 * bad_skin / (bad ? bad : 1), 100.0 * bad_kept / (bad ? bad : 1), bad,
                100.0 * good_skin / (good ? good : 1), 100.0 * good_kept / (good ? good : 1), good);
     free(oracle);
-    free(mc), free(mr), free(mf), free(rb), free(ra), free(rj), free(qw), free(Rtrue), free(Rfit), free(txyz), free(ftris);
+    free(mc), free(mr), free(mf), free(rb), free(ra), free(rj), free(qw), free(Rtrue), free(Rfit), free(Rjs), free(txyz), free(ftris);
     fr_sfs_mesh_free(&tm);
     fr_sfs_run_free(&run);
     frig_photoset_free(set), frig_rig_free(rig), frig_rig_free(truth_rig), frig_ctx_free(ctx);

@@ -2,6 +2,7 @@
  * leak), every EXIF orientation, CMYK/YCCK, gray, progressive, 16-bit, palette, alpha and
  * interlaced files, and atomic saves. The corpus is made here, by the test itself. */
 #include <dirent.h>
+#include <math.h>
 #include <setjmp.h>
 #include <stdlib.h>
 #include <string.h>
@@ -13,6 +14,7 @@
 #include <zlib.h>
 
 #include "frig/frig.h"
+#include "image/gaussian_blur.h"
 #include "image/image.h"
 #include "testing.h"
 
@@ -492,8 +494,42 @@ static void test_saves(void) {
     frig_image_free(src);
 }
 
+/* The Gaussian blur (lib/image/gaussian_blur.c): an impulse becomes the sampled, normalized
+ * Gaussian (its sum 1, its centre and its spread the kernel's), a constant stays constant at the
+ * borders, channels do not mix. */
+static void test_gaussian_blur(void) {
+    enum { W = 41, H = 37 };
+    float *in = calloc(2 * W * H, sizeof(float)), *out = malloc(sizeof(float) * 2 * W * H);
+    if (!in || !out) {
+        free(in), free(out);
+        CHECK(0);
+        return;
+    }
+    double sigma = 2.5, k0 = 0, ksum = 0, kvar = 0; /* the kernel: radius ceil(3 sigma) = 8 */
+    for (int i = -8; i <= 8; i++) ksum += exp(-0.5 * i * i / (sigma * sigma)), kvar += i * i * exp(-0.5 * i * i / (sigma * sigma));
+    k0 = 1 / ksum, kvar /= ksum;
+    in[2 * (18 * W + 20)] = 1;                                   /* channel 0: an impulse */
+    for (int i = 0; i < W * H; i++) in[2 * i + 1] = 0.25f;       /* channel 1: constant */
+    CHECK(fr_gaussian_blur(ctx, in, W, H, 2, sigma, out) == FRIG_OK);
+    double sum = 0, var = 0, cmax = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double v = out[2 * (y * W + x)];
+            sum += v, var += v * ((x - 20) * (x - 20) + (y - 18) * (y - 18)) / 2.0;
+            cmax = fmax(cmax, fabs(out[2 * (y * W + x) + 1] - 0.25));
+        }
+    printf("gaussian blur: sum %.6f, centre %.6f (kernel %.6f), variance %.4f (the truncated kernel's %.4f), constant off "
+           "by %.2g\n", sum, out[2 * (18 * W + 20)], k0 * k0, var, kvar, cmax);
+    CHECK(fabs(sum - 1) < 1e-5);
+    CHECK(fabs(out[2 * (18 * W + 20)] - k0 * k0) < 1e-6);
+    CHECK(fabs(var - kvar) < 1e-4 && kvar > 0.98 * sigma * sigma);
+    CHECK(cmax < 1e-6);
+    free(in), free(out);
+}
+
 int main(void) {
     ctx = frig_ctx_create();
+    test_gaussian_blur();
     dir = test_temp_dir("image_corpus");
     test_bad_files();
     test_orientations();

@@ -5,7 +5,8 @@
  * synthetic subjects, an over-exposed photo sfs_failed, results in report.json read back,
  * the same clouds whatever the thread count, the albedo texture drawn later from the kept
  * computation (the outer loop's) the same bytes; the shared shape's joint pose (with the photos'
- * own gradients) brings fits turned by 4 degrees toward the truth. */
+ * own gradients) brings fits turned by 4 degrees toward the truth, and the coarse-to-fine pose
+ * registration brings photos turned by 9 degrees back within a few degrees. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -466,6 +467,54 @@ static void test_joint_pose(void) {
     free_scene(&sc);
 }
 
+/* Two photos' poses turned by 9 degrees about the head's origin (one about y, one about x), beyond
+ * the shading pose steps' basin, the others true: the coarse-to-fine registration
+ * (sfs_pose_align.c: blurred photometric and occluding-contour terms against the shape and albedo
+ * the photos share) brings the two back near the truth and leaves the others near it. */
+static void test_pose_align(void) {
+    const char *dir;
+    scene sc;
+    if (!scene_in("sfs_pose_align", &sc, &dir)) return;
+    double Rt[8][9], turn = 9.0;
+    for (int p = 0; p < sc.photos; p++) {
+        fr_photo *ph = &sc.set->photos[p];
+        double w[3] = {0, 0, 0}, dR[9], R[9];
+        memcpy(Rt[p], ph->fit_rotation, sizeof Rt[p]);
+        if (p > 1) continue;
+        w[p ? 0 : 1] = turn * M_PI / 180;
+        fr_rotation_from_axis_angle(w, dR);
+        fr_mat3_mul(dR, ph->fit_rotation, R);
+        memcpy(ph->fit_rotation, R, sizeof R);
+    }
+    fr_sfs_settings st;
+    fr_sfs_settings_from_ctx(ctx, &st);
+    st.pose_levels = 3;
+    fr_sfs_run run;
+    CHECK(fr_sfs_run_all(ctx, sc.rig, sc.set, &st, &run) == FRIG_OK);
+    double turned = 0, others = 0, turned_mean = 0;
+    int n = 0;
+    for (int k = 0; k < run.n; k++) {
+        if (!run.ok[k]) continue;
+        size_t p = run.photo[k];
+        double a = fr_rotation_angle_deg(run.views[k].R, Rt[p]);
+        printf("photo %zu: rotation error %.2f -> %.2f deg\n", p, fr_rotation_angle_deg(sc.set->photos[p].fit_rotation, Rt[p]), a);
+        if (p < 2) turned = a > turned ? a : turned, turned_mean += a / 2;
+        else others = a > others ? a : others;
+        n++;
+    }
+    printf("pose registration: the turned photos' mean %.2f, worst %.2f deg (from %.1f), the others' worst %.2f deg (from 0)\n",
+           turned_mean, turned, turn, others);
+    CHECK(n == 7);
+    /* measured: the turned 9 -> 5.03 and 2.67 deg, the others 0 -> 1.9-4.6 (the shared albedo and
+     * shape are built from the turned photos too; docs/sfs.md); without the registration the
+     * turned photos stay at 9 */
+    CHECK(turned_mean < 4.5);
+    CHECK(turned < 6.5);
+    CHECK(others < 5.5);
+    fr_sfs_run_free(&run);
+    free_scene(&sc);
+}
+
 int main(void) {
     ctx = frig_ctx_create();
     test_sh_gradient();
@@ -475,6 +524,7 @@ int main(void) {
     test_depth_solver();
     test_stage();
     test_joint_pose();
+    test_pose_align();
     frig_ctx_free(ctx);
     return test_result("test_sfs");
 }

@@ -184,6 +184,13 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_TRANSFER = 616,          /* Reinhard colour transfer of the albedo to each photo: 0 off, 1 means, 2 means and spreads (default 0) */
     FRIG_PARAM_SFS_W_PRIOR = 617,           /* normals held to the multi-view shape's normals (default 10) */
     FRIG_PARAM_SFS_SHAPE_SIZE = 618,        /* side of the UV grid of the shape shared by all photos (default 128) */
+    FRIG_PARAM_SFS_POSE_LEVELS = 619,       /* each photo's pose registered to the shared shape coarse to fine, levels (0 off) */
+    FRIG_PARAM_SFS_POSE_SIGMA = 620,        /* the registration's finest blur, pixels at a 160-pixel face (default 2) */
+    FRIG_PARAM_SFS_STEREO = 621,            /* the shared shape's multi-view term, the photos' own gradients (0 off) */
+    FRIG_PARAM_SFS_JOINT_ALBEDO = 622,      /* 1: the shared shape's albedo solved with the displacement (default 0) */
+    FRIG_PARAM_SFS_SHAPE_ITERATIONS = 623,  /* Gauss-Newton iterations of the shared shape per round (default 4) */
+    FRIG_PARAM_SFS_SHAPE_SIGMA = 624,       /* the shared shape's residual scale, relative intensity (default 0.03) */
+    FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 0) */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

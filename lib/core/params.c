@@ -144,6 +144,21 @@ static const param_row rows[] = {
      "weight holding each photo's normals to those of the shape recovered from all photos"},
     {FRIG_PARAM_SFS_SHAPE_SIZE, "sfs.shape_size", 128, 16, 2048, 1,
      "side of the UV grid on which the shape shared by all photos is solved (texels of the model's face layout)"},
+    {FRIG_PARAM_SFS_POSE_LEVELS, "sfs.pose_levels", 0, 0, 6, 1,
+     "each photo's pose registered to the shared shape and albedo, coarse to fine, with this many blur levels "
+     "(photometric and occluding-contour terms; 0: the fit's poses)"},
+    {FRIG_PARAM_SFS_POSE_SIGMA, "sfs.pose_sigma", 2, 0.5, 32, 0,
+     "the pose registration's finest blur, pixels for a face 160 pixels long (each coarser level doubles it)"},
+    {FRIG_PARAM_SFS_STEREO, "sfs.stereo", 0, 0, 100, 0,
+     "weight of the shared shape's multi-view term (each photo's own image gradient along a texel's path; 0 off)"},
+    {FRIG_PARAM_SFS_JOINT_ALBEDO, "sfs.joint_albedo", 0, 0, 1, 1,
+     "1: the shared shape's texel albedo solved with the displacement (Schur complement), 0: alternated"},
+    {FRIG_PARAM_SFS_SHAPE_ITERATIONS, "sfs.shape_iterations", 4, 1, 100, 1,
+     "Gauss-Newton iterations of the shared shape per round"},
+    {FRIG_PARAM_SFS_SHAPE_SIGMA, "sfs.shape_sigma", 0.03, 1e-3, 1, 0,
+     "the shared shape's residual scale, relative intensity of one standard deviation"},
+    {FRIG_PARAM_SFS_JOINT_POSE, "sfs.joint_pose", 0, 0, 50, 1,
+     "Levenberg-Marquardt steps of each photo's pose against the shared shape's shading after each round (0 off)"},
 
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,

@@ -31,12 +31,15 @@ typedef struct fr_sfs_settings {
     int shape_size;       /* side of the UV grid of the shared shape */
     int pose;             /* 1: refine the pose against the recovered depth (ICP) */
     int transfer;         /* Reinhard transfer of the albedo to each photo: 0 off, 1 means, 2 means and spreads */
-    /* the shared shape's experimental terms (no sfs.* parameter; bench/sfs_eval sets them; docs/sfs.md) */
+    /* the shared shape's terms (sfs.stereo, sfs.joint_pose, sfs.joint_albedo, sfs.shape_iterations,
+     * sfs.shape_sigma, sfs.pose_levels, sfs.pose_sigma; docs/sfs.md) */
     double w_stereo;      /* each photo's own image gradient along a texel's projected path (0: shading only) */
     int pose_steps;       /* per round, Levenberg-Marquardt steps of each photo's pose against the shared shape */
     int joint_albedo;     /* 1: the texels' albedo solved with the shared displacement, not alternated with it */
     int shape_iterations; /* Gauss-Newton iterations of the shared shape per round (0: its default, 4) */
     double shape_sigma;   /* the shared shape's residual scale (0: its default, 0.03) */
+    int pose_levels;      /* each photo's pose registered coarse to fine with this many blur levels (0: off) */
+    double pose_sigma_px; /* the finest blur level, crop pixels for a 160-pixel face (0: its default, 2) */
     const uint8_t *shape_use; /* per photo of the set: used by the shared shape (NULL: every usable photo) */
 } fr_sfs_settings;
 

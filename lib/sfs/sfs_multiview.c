@@ -18,7 +18,10 @@
  * albedo eliminated from the Gauss-Newton step by its Schur complement, which has the same
  * stencil, and recovered by back-substitution, instead of alternated with D); and each photo's
  * pose refined against the shared surface and albedo after each round (6 x 6 Levenberg-Marquardt,
- * the views drawn again at their new poses). */
+ * the views drawn again at their new poses); and each photo's pose registered coarse to fine
+ * (sfs_pose_align.c: blurred photometric and occluding-contour terms, a wider basin) before the
+ * first round and after each (the whole pyramid after the first, its finest level after the
+ * others). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,6 +31,7 @@
 #include "raster/raster.h"
 #include "raster/rotation.h"
 #include "sfs/sfs_multiview.h"
+#include "sfs/sfs_pose_align.h"
 #include "sparse/sparse.h"
 
 #define TUKEY_C 4.685
@@ -46,6 +50,8 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
     o->w_stereo = 0.0;
     o->pose_steps = 0;
     o->joint_albedo = 0;
+    o->pose_levels = 0;
+    o->pose_sigma_px = 2.0;
 }
 
 /* One photo's view of the texels: the rig's texel points and normals at its expression, and
@@ -75,6 +81,7 @@ typedef struct mv {
     float *albedo_try;  /* 3 per texel */
     double *Haa, *HaD, *ga; /* joint albedo: per texel 3, 9 (3 x the stencil's 3) and 3 */
     size_t *damped;     /* per texel: its diagonal triplet holding w_anchor + mu */
+    const fr_sfs_albedo *ps; /* the first albedo (its observation weights tell the well-seen texels) */
 } mv;
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
@@ -540,33 +547,74 @@ static void update_pose(mv *s, int k, int steps) {
     memcpy(v->R, R, sizeof R), memcpy(v->t, tv, sizeof tv);
 }
 
+static int cmp_float(const void *x, const void *y) {
+    float a = *(const float *)x, b = *(const float *)y;
+    return (a > b) - (a < b);
+}
+
 static void mv_free(mv *s) {
     for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w), free(s->pt[k].dI);
     free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
     free(s->H), free(s->albedo), free(s->albedo_try), free(s->Haa), free(s->HaD), free(s->ga), free(s->damped);
 }
 
-/* Every photo's pose against the shared surface, then each view drawn again at its pose (the
+/* The albedo the registration draws (T x T, with a weight per texel): the texels' albedo where
+ * photos saw it well, an observation weight above a fifth of the median's and a plausible value
+ * (texels seen rarely or at grazing angles carry wild colours). */
+static void registration_texture(const mv *s, float *tex, float *tex_w) {
+    double wmed = 0;
+    float *ws = malloc(sizeof(float) * ((size_t)s->nt + 1));
+    if (ws) {
+        int n = 0;
+        for (int t = 0; t < s->nt; t++)
+            if (s->ps->weight[s->uv->texel[t]] > 0) ws[n++] = s->ps->weight[s->uv->texel[t]];
+        qsort(ws, (size_t)n, sizeof *ws, cmp_float);
+        wmed = n ? ws[n / 2] : 0;
+        free(ws);
+    }
+    for (int t = 0; t < s->nt; t++) {
+        size_t q = (size_t)s->uv->texel[t];
+        int sane = 1;
+        for (int c = 0; c < 3; c++) {
+            float a = s->albedo[3 * t + c];
+            tex[3 * q + c] = a, sane &= a > 0.005f && a < 1.5f;
+        }
+        tex_w[q] = sane && s->ps->weight[q] > 0.2 * wmed;
+    }
+}
+
+/* Every photo's pose against the shared surface: registered coarse to fine (o->pose_levels), then
+ * 'steps' Levenberg-Marquardt steps of the shading term; each view drawn again at its pose (the
  * visibility that the next sampling reads). */
-static frig_status joint_pose(frig_ctx *ctx, mv *s, int threads) {
+static frig_status joint_pose(frig_ctx *ctx, mv *s, int threads, int steps, int levels) {
     int T = s->uv->size;
-    float *disp = calloc((size_t)T * T, sizeof(float)), *vd = malloc(sizeof(float) * ((size_t)s->m->nv + 1));
-    frig_status st = !disp || !vd ? fr_nomem(ctx, "the joint pose") : FRIG_OK;
+    size_t TT = (size_t)T * T;
+    float *disp = calloc(TT, sizeof(float)), *vd = malloc(sizeof(float) * ((size_t)s->m->nv + 1));
+    float *tex = s->o->pose_levels > 0 ? calloc(3 * TT, sizeof(float)) : NULL;
+    float *tex_w = s->o->pose_levels > 0 ? calloc(TT, sizeof(float)) : NULL;
+    frig_status st = !disp || !vd || (s->o->pose_levels > 0 && (!tex || !tex_w)) ? fr_nomem(ctx, "the joint pose")
+                                                                                  : FRIG_OK;
     for (int t = 0; t < s->nt && !st; t++) disp[s->uv->texel[t]] = (float)(s->D[t] * MM);
+    if (tex && tex_w && !st) registration_texture(s, tex, tex_w);
     if (!st) st = fr_sfs_vertex_displacement(ctx, s->m, disp, T, vd);
+    fr_sfs_pose_align_options ao;
+    fr_sfs_pose_align_options_default(&ao);
+    ao.levels = levels, ao.sigma_px = s->o->pose_sigma_px;
     int failed = 0;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int k = 0; k < s->nviews; k++) {
         if (!s->use[k] || st) continue;
-        update_pose(s, k, s->o->pose_steps);
         frig_ctx child;
         fr_ctx_init_child(&child, ctx);
+        if (ao.levels > 0 && fr_sfs_pose_align(&child, s->m, &s->views[k], vd, tex, tex_w, T, &ao, NULL)) failed = 1;
+        if (steps <= 0) continue;
+        update_pose(s, k, steps);
         double R[9], t[3];
         memcpy(R, s->views[k].R, sizeof R), memcpy(t, s->views[k].t, sizeof t);
         if (fr_sfs_view_render(&child, s->m, &s->views[k], R, t, vd)) failed = 1;
     }
     if (failed && !st) st = fr_nomem(ctx, "the joint pose");
-    free(disp), free(vd);
+    free(disp), free(vd), free(tex), free(tex_w);
     return st;
 }
 
@@ -574,7 +622,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
                              const uint8_t *use, const fr_sfs_multiview_options *o, fr_sfs_albedo *ps, float *disp) {
     mv s;
     memset(&s, 0, sizeof s);
-    s.m = m, s.uv = uv, s.views = views, s.nviews = nviews, s.use = use, s.o = o, s.nt = uv->count;
+    s.ps = ps, s.m = m, s.uv = uv, s.views = views, s.nviews = nviews, s.use = use, s.o = o, s.nt = uv->count;
     int T = uv->size, threads = fr_threads(ctx);
     size_t nt = (size_t)s.nt + 1;
     s.pt = calloc((size_t)nviews + 1, sizeof *s.pt);
@@ -622,6 +670,8 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     memset(&tr, 0, sizeof tr);
     fr_cholesky *ch = NULL;
     if (!st) st = fr_triplets_init(ctx, &tr, s.nt, s.nt, (size_t)s.nt * 16);
+    /* the photos registered to the rig and the first albedo before the first round */
+    if (o->pose_levels > 0 && !st && k0 < nviews) st = joint_pose(ctx, &s, threads, 0, o->pose_levels);
     for (int outer = 0; outer < o->outer && !st && k0 < nviews; outer++) {
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
         for (int k = 0; k < nviews; k++)
@@ -675,7 +725,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
             fr_ctx_init_child(&child, ctx);
             update_lighting(&s, k, &child);
         }
-        if (o->pose_steps > 0 && !st) st = joint_pose(ctx, &s, threads);
+        /* the registration: the whole pyramid after the first round, its finest level after the others */
+        int levels = o->pose_levels > 0 ? (outer < 1 ? o->pose_levels : 1) : 0;
+        if ((o->pose_steps > 0 || levels > 0) && !st) st = joint_pose(ctx, &s, threads, o->pose_steps, levels);
     }
     if (!st) {
         memset(disp, 0, sizeof(float) * (size_t)T * T);

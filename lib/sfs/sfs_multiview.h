@@ -19,6 +19,9 @@ typedef struct fr_sfs_multiview_options {
     int pose_steps;   /* per round, Levenberg-Marquardt steps of each photo's pose against the shared surface */
     int joint_albedo; /* 1: the texels' albedo solved with the displacement (eliminated per texel), not alternated */
     double w_stereo;  /* the photos' own gradients along each texel's projected path (0: shading only) */
+    int pose_levels;  /* each photo's pose registered coarse to fine (sfs_pose_align.c) before the shared solve and
+                       * after each round, with this many blur levels (0: off) */
+    double pose_sigma_px; /* the finest level's blur, crop pixels for a 160-pixel face */
 } fr_sfs_multiview_options;
 
 void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o);

@@ -240,6 +240,8 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
         mo.joint_albedo = st->joint_albedo;
         if (st->shape_iterations > 0) mo.iterations = st->shape_iterations;
         if (st->shape_sigma > 0) mo.sigma = st->shape_sigma;
+        mo.pose_levels = st->pose_levels;
+        if (st->pose_sigma_px > 0) mo.pose_sigma_px = st->pose_sigma_px;
         mo.outer = st->rounds;
         uint8_t *use = malloc((size_t)r->n + 1);
         if (!use && !s) s = fr_nomem(ctx, "the multi-view solve");

@@ -21,10 +21,12 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->shape_size = fr_param_int(ctx, FRIG_PARAM_SFS_SHAPE_SIZE);
     s->pose = fr_param_int(ctx, FRIG_PARAM_SFS_POSE);
     s->transfer = fr_param_int(ctx, FRIG_PARAM_SFS_TRANSFER);
-    s->w_stereo = 0.0;
-    s->pose_steps = 0;
-    s->joint_albedo = 0;
-    s->shape_iterations = 0;
-    s->shape_sigma = 0;
+    s->w_stereo = fr_param(ctx, FRIG_PARAM_SFS_STEREO);
+    s->pose_steps = fr_param_int(ctx, FRIG_PARAM_SFS_JOINT_POSE);
+    s->joint_albedo = fr_param_int(ctx, FRIG_PARAM_SFS_JOINT_ALBEDO);
+    s->shape_iterations = fr_param_int(ctx, FRIG_PARAM_SFS_SHAPE_ITERATIONS);
+    s->shape_sigma = fr_param(ctx, FRIG_PARAM_SFS_SHAPE_SIGMA);
+    s->pose_levels = fr_param_int(ctx, FRIG_PARAM_SFS_POSE_LEVELS);
+    s->pose_sigma_px = fr_param(ctx, FRIG_PARAM_SFS_POSE_SIGMA);
     s->shape_use = NULL;
 }
