@@ -88,7 +88,9 @@ bash "$FRIG_SOURCE_DIR/bench/kill_resume.sh" "$photos" "$tmp/kr" 3 13 -- --model
   > "$tmp/kr.out" 2>&1
 check '[ $? = 0 ]'
 cat "$tmp/kr.out"
-check 'grep -q "^3 kills; rig.glb, shapes/ and clouds/ byte-identical to the clean run$" "$tmp/kr.out"'
+# Up to 3 kills: each comes after a share of the work the clean run's stage times say is left, so
+# on a machine whose load falls between the runs the resumed run can finish first (then fewer).
+check 'grep -Eq "^[1-3] kills; rig.glb, shapes/ and clouds/ byte-identical to the clean run$" "$tmp/kr.out"'
 check 'grep -q "retarget .*2 rounds (clouds recovered 1 times more)" "$tmp/kr/clean.log"'
 check '! cmp -s "$tmp/kr/clean/textures/albedo.png" "$tmp/kr/clean/stages/sfs/albedo.png"'   # the recovered albedo
 check '! diff -rq "$tmp/kr/clean/clouds" "$tmp/ref/clouds" > /dev/null'   # the clouds recovered in the loop
