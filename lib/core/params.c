@@ -110,7 +110,7 @@ static const param_row rows[] = {
     /* sfs (docs/sfs.md) */
     {FRIG_PARAM_SFS_FACE_PX, "sfs.face_px", 160, 16, 4096, 1,
      "shape from shading works on a crop whose face (longer side) is at most this many pixels"},
-    {FRIG_PARAM_SFS_ROUNDS, "sfs.rounds", 3, 0, 20, 1,
+    {FRIG_PARAM_SFS_ROUNDS, "sfs.rounds", 6, 0, 20, 1,
      "rounds of the shape shared by all photos (albedo, displacement, lighting; Algorithm 4's outer loop); 0: none"},
     {FRIG_PARAM_SFS_ITERATIONS, "sfs.iterations", 3, 1, 100, 1, "Gauss-Newton iterations of each photo's depth"},
     {FRIG_PARAM_SFS_W_NORMAL, "sfs.w_normal", 1, 0, 1e9, 0,
@@ -144,21 +144,25 @@ static const param_row rows[] = {
      "weight holding each photo's normals to those of the shape recovered from all photos"},
     {FRIG_PARAM_SFS_SHAPE_SIZE, "sfs.shape_size", 128, 16, 2048, 1,
      "side of the UV grid on which the shape shared by all photos is solved (texels of the model's face layout)"},
-    {FRIG_PARAM_SFS_POSE_LEVELS, "sfs.pose_levels", 0, 0, 6, 1,
+    {FRIG_PARAM_SFS_POSE_LEVELS, "sfs.pose_levels", 3, 0, 6, 1,
      "each photo's pose registered to the shared shape and albedo, coarse to fine, with this many blur levels "
      "(photometric and occluding-contour terms; 0: the fit's poses)"},
     {FRIG_PARAM_SFS_POSE_SIGMA, "sfs.pose_sigma", 2, 0.5, 32, 0,
      "the pose registration's finest blur, pixels for a face 160 pixels long (each coarser level doubles it)"},
-    {FRIG_PARAM_SFS_STEREO, "sfs.stereo", 0, 0, 100, 0,
+    {FRIG_PARAM_SFS_STEREO, "sfs.stereo", 1, 0, 100, 0,
      "weight of the shared shape's multi-view term (each photo's own image gradient along a texel's path; 0 off)"},
-    {FRIG_PARAM_SFS_JOINT_ALBEDO, "sfs.joint_albedo", 0, 0, 1, 1,
+    {FRIG_PARAM_SFS_JOINT_ALBEDO, "sfs.joint_albedo", 1, 0, 1, 1,
      "1: the shared shape's texel albedo solved with the displacement (Schur complement), 0: alternated"},
-    {FRIG_PARAM_SFS_SHAPE_ITERATIONS, "sfs.shape_iterations", 4, 1, 100, 1,
+    {FRIG_PARAM_SFS_SHAPE_ITERATIONS, "sfs.shape_iterations", 8, 1, 100, 1,
      "Gauss-Newton iterations of the shared shape per round"},
-    {FRIG_PARAM_SFS_SHAPE_SIGMA, "sfs.shape_sigma", 0.03, 1e-3, 1, 0,
+    {FRIG_PARAM_SFS_SHAPE_SIGMA, "sfs.shape_sigma", 0.1, 1e-3, 1, 0,
      "the shared shape's residual scale, relative intensity of one standard deviation"},
     {FRIG_PARAM_SFS_JOINT_POSE, "sfs.joint_pose", 0, 0, 50, 1,
      "Levenberg-Marquardt steps of each photo's pose against the shared shape's shading after each round (0 off)"},
+    {FRIG_PARAM_SFS_JOINT_MIN_PHOTOS, "sfs.joint_min_photos", 16, 0, 1e6, 1,
+     "with fewer photos to judge than this, the shared shape is solved the light way (albedo alternated, no multi-view "
+     "term, no pose registration, at most 3 rounds of 4 iterations): a few photos' shared albedo and shape cannot "
+     "register them (measured on 7: poses drift to 14 degrees); 0: never"},
 
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,

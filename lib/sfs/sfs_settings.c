@@ -28,5 +28,15 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->shape_sigma = fr_param(ctx, FRIG_PARAM_SFS_SHAPE_SIGMA);
     s->pose_levels = fr_param_int(ctx, FRIG_PARAM_SFS_POSE_LEVELS);
     s->pose_sigma_px = fr_param(ctx, FRIG_PARAM_SFS_POSE_SIGMA);
+    s->joint_min_photos = fr_param_int(ctx, FRIG_PARAM_SFS_JOINT_MIN_PHOTOS);
     s->shape_use = NULL;
+}
+
+void fr_sfs_light_shared_solve(fr_sfs_settings *s) {
+    s->w_stereo = 0;
+    s->joint_albedo = 0;
+    s->pose_levels = 0;
+    if (s->rounds > 3) s->rounds = 3;
+    if (s->shape_iterations > 4) s->shape_iterations = 4;
+    s->shape_sigma = 0.03;
 }
