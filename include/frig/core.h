@@ -192,6 +192,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_SHAPE_SIGMA = 624,       /* the shared shape's residual scale, relative intensity (default 0.1) */
     FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 0) */
     FRIG_PARAM_SFS_JOINT_MIN_PHOTOS = 626,  /* fewer photos: the light shared solve, no registration (default 16; docs/sfs.md) */
+    FRIG_PARAM_SFS_JOINT_MAX_PHOTOS = 627,  /* more photos: the light shared solve too, for time (default 60; 0: no limit) */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

@@ -163,6 +163,9 @@ static const param_row rows[] = {
      "with fewer photos to judge than this, the shared shape is solved the light way (albedo alternated, no multi-view "
      "term, no pose registration, at most 3 rounds of 4 iterations): a few photos' shared albedo and shape cannot "
      "register them (measured on 7: poses drift to 14 degrees); 0: never"},
+    {FRIG_PARAM_SFS_JOINT_MAX_PHOTOS, "sfs.joint_max_photos", 60, 0, 1e6, 1,
+     "with more photos to judge than this, the light shared solve too: the full one's cost grows with the photos (91 "
+     "video frames: 34 CPU s for the shared shape against 6) and frig run keeps 100 photos under a minute; 0: no limit"},
 
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,

@@ -40,6 +40,7 @@ typedef struct fr_sfs_settings {
     double shape_sigma;   /* the shared shape's residual scale (0: its default, 0.03) */
     int pose_levels;      /* each photo's pose registered coarse to fine with this many blur levels (0: off) */
     int joint_min_photos; /* fewer photos than this: the light shared solve (fr_sfs_light_shared_solve) */
+    int joint_max_photos; /* more photos than this (0: no limit): the light shared solve too, for time */
     double pose_sigma_px; /* the finest blur level, crop pixels for a 160-pixel face (0: its default, 2) */
     const uint8_t *shape_use; /* per photo of the set: used by the shared shape (NULL: every usable photo) */
 } fr_sfs_settings;
@@ -47,7 +48,8 @@ typedef struct fr_sfs_settings {
 void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s);
 /* The shared solve as it was before the registration and J became the default (2026-12-02): the
  * albedo alternated with the displacement, no multi-view term, no pose registration, at most 3
- * rounds of 4 iterations, residual scale 0.03; for sets of fewer than joint_min_photos photos. */
+ * rounds of 4 iterations, residual scale 0.03; for sets of fewer than joint_min_photos photos or
+ * more than joint_max_photos. */
 void fr_sfs_light_shared_solve(fr_sfs_settings *s);
 
 /* ---- the rig as the stage draws it ---- */

@@ -171,8 +171,11 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
     if (s) return s;
     size_t n = 0;
     for (size_t i = 0; i < set->count; i++) n += candidate(&set->photos[i]);
-    /* A few photos' shared albedo and shape cannot register them (docs/sfs.md): the light solve. */
-    if (n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0)) fr_sfs_light_shared_solve(&r->st);
+    /* A few photos' shared albedo and shape cannot register them, and many make the full solve
+     * slow (docs/sfs.md): the light solve. */
+    if (n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0) ||
+        (st->joint_max_photos > 0 && n > (size_t)st->joint_max_photos))
+        fr_sfs_light_shared_solve(&r->st);
     st = &r->st;
     r->photo = malloc(sizeof(size_t) * (n + 1));
     r->views = calloc(n + 1, sizeof *r->views);

@@ -29,6 +29,7 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->pose_levels = fr_param_int(ctx, FRIG_PARAM_SFS_POSE_LEVELS);
     s->pose_sigma_px = fr_param(ctx, FRIG_PARAM_SFS_POSE_SIGMA);
     s->joint_min_photos = fr_param_int(ctx, FRIG_PARAM_SFS_JOINT_MIN_PHOTOS);
+    s->joint_max_photos = fr_param_int(ctx, FRIG_PARAM_SFS_JOINT_MAX_PHOTOS);
     s->shape_use = NULL;
 }
 
