@@ -531,9 +531,9 @@ frig_status fr_sfs_pose_align(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view *
             break;
         }
         fr_log(ctx, FRIG_LOG_DEBUG,
-               "sfs: pose registration, level %d (blur %.2f px, reduced %d): %d cells, %d contour "
+               "sfs: pose registration of photo %zu, level %d (blur %.2f px, reduced %d): %d cells, %d contour "
                "points, %d steps, turn %.2f deg",
-               lv, L.sigma, L.d, L.nt, L.nc, taken, fr_rotation_angle_deg(A, A0));
+               v->photo, lv, L.sigma, L.d, L.nt, L.nc, taken, fr_rotation_angle_deg(A, A0));
     }
     if (!s) {
         double R[9], turn = fr_rotation_angle_deg(A, I3);

@@ -71,6 +71,7 @@ static frig_status prepare_one(frig_ctx *ctx, size_t k, void *user) {
     fr_sfs_view *v = &r->views[k];
     frig_status s = fr_sfs_view_build(ctx, &r->mesh, &r->st, p->path, p->width, p->height, p->fit_rotation,
                                       p->fit_translation, p->fit_focal, w, v);
+    v->photo = r->photo[k]; /* the set's index, for the logs */
     free(w);
     if (!s) s = fr_sfs_photo_prepare(ctx, v, &r->st);
     if (s) {
