@@ -261,7 +261,7 @@ static const param_row rows[] = {
      "(sfs.iterations is the sfs stage's own; 0: the same): the rig there starts closer"},
     {FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS, "retarget.sfs_shape_iterations", 0, 0, 100, 1,
      "Gauss-Newton iterations per round of the shape shared by all photos when the outer loop recovers the clouds "
-     "(0: the sfs stage's own, 4); fewer are faster (2: 0.7 CPU s less per recovery of 91 photos) but measured worse "
+     "(0: the sfs stage's own, sfs.shape_iterations); fewer are faster (2: 0.7 CPU s less per recovery of 91 photos) but measured worse "
      "on a frig synth subject (neutral after round 3 4.479 mm against 4.389: docs/retarget.md)"},
     {FRIG_PARAM_RETARGET_LOOP_IDENTITY_ITERATIONS, "retarget.loop_identity_iterations", -1, -1, 100, 1,
      "iterations of the identity from the clouds in the outer rounds after the first (-1: retarget.identity_iterations); "

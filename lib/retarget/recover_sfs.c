@@ -64,7 +64,8 @@ frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_mode
     fr_sfs_settings_from_ctx(ctx, &st);
     int iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_ITERATIONS);
     if (iterations > 0) st.iterations = iterations;
-    st.shape_iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS);
+    int shape_iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS);
+    if (shape_iterations > 0) st.shape_iterations = shape_iterations; /* 0: sfs.shape_iterations */
     if (albedo && ctx->rt_defer_albedo) {
         /* the texture when the loop ends, from the last recovery's computation; the previous
          * round's is dropped first, so that only one is ever held */
