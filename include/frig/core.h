@@ -226,7 +226,7 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_STOP_MM = 714,           /* the outer loop stops when the neutral moves less (default 0.05) */
     FRIG_PARAM_RETARGET_RIGID_ITERATIONS = 715,  /* rigid ICP steps before the deformation (default 2) */
     FRIG_PARAM_RETARGET_DEFORM_ITERATIONS = 716, /* correspondence + deformation rounds (default 4) */
-    FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS = 717, /* identity from the clouds first; 0: off (default 3) */
+    FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS = 717, /* identity from the clouds first; 0: off (default 5) */
     FRIG_PARAM_RETARGET_LANDMARK_MM = 718,       /* noise of the landmarks lifted onto the clouds; 0: unused (default 0) */
     FRIG_PARAM_RETARGET_SMOOTH_ORDER = 719,      /* 1: membrane, 2: bending energy of the deformation (default 1) */
     FRIG_PARAM_RETARGET_WEIGHTS_SPARSE = 720,    /* L1 on each photo's weights (default 0.2) */
@@ -240,7 +240,8 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_SFS_ITERATIONS = 728,    /* each photo's depth iterations when the loop recovers the clouds (default 2) */
     FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS = 729, /* the shared shape's iterations per round in the loop's recovery (0: sfs's) */
     FRIG_PARAM_RETARGET_LOOP_IDENTITY_ITERATIONS = 730, /* retarget.identity_iterations in the outer rounds after the first */
-    FRIG_PARAM_RETARGET_LOOP_DEFORM_ITERATIONS = 731    /* retarget.deform_iterations in the outer rounds after the first */
+    FRIG_PARAM_RETARGET_LOOP_DEFORM_ITERATIONS = 731,   /* retarget.deform_iterations in the outer rounds after the first */
+    FRIG_PARAM_RETARGET_IDENTITY_SPREAD = 732 /* variance of each cloud's own identity about the shared one (default 0.03) */
 } frig_param;
 
 FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);

@@ -226,7 +226,7 @@ static const param_row rows[] = {
      "rigid alignment steps of each cloud before the deformation"},
     {FRIG_PARAM_RETARGET_DEFORM_ITERATIONS, "retarget.deform_iterations", 4, 1, 100, 1,
      "rounds of correspondence and Laplacian deformation per cloud"},
-    {FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS, "retarget.identity_iterations", 3, 0, 100, 1,
+    {FRIG_PARAM_RETARGET_IDENTITY_ITERATIONS, "retarget.identity_iterations", 5, 0, 100, 1,
      "steps of the model's identity fitted to all clouds before the correspondences (beyond the paper; 0: off)"},
     {FRIG_PARAM_RETARGET_LANDMARK_MM, "retarget.landmark_mm", 0, 0, 1000, 0,
      "the identity fit also pulls the model's landmark vertices to the photos' landmarks lifted onto the clouds, "
@@ -256,6 +256,10 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_IDENTITY_PRIOR, "retarget.identity_prior", 100, 0.01, 1e6, 0,
      "weight of the model's prior N(0, I) on the identity fitted to the clouds, against matches weighed at 1 mm "
      "each (s^2 weighs them at s mm)"},
+    {FRIG_PARAM_RETARGET_IDENTITY_SPREAD, "retarget.identity_spread", 0.03, 0, 100, 0,
+     "variance (in the model's identity units) of the identity each cloud shows about the shared one: a cloud's "
+     "errors are smooth and shared by its points, so each photo's say on the shared identity is capped (0: "
+     "every match counts as independent)"},
     {FRIG_PARAM_RETARGET_SFS_ITERATIONS, "retarget.sfs_iterations", 2, 0, 100, 1,
      "Gauss-Newton iterations of each photo's depth when the outer loop recovers the clouds with the new rig "
      "(sfs.iterations is the sfs stage's own; 0: the same): the rig there starts closer"},

@@ -8,6 +8,10 @@
  * times: the matches are weighed as if each were an independent 1 mm measurement, but a cloud's
  * errors (sfs's, the pose's) are smooth and shared by its neighbouring points, so thousands of
  * matches per photo outweigh the prior far more than they should (measured: docs/retarget.md).
+ * So each cloud may show an identity of its own, N(0, retarget.identity_spread I) about the shared
+ * one (a random effect, eliminated per photo: cap_by_spread): a photo's say on the shared identity
+ * is then capped however many matches it has, and the clouds' own errors average out instead of
+ * adding up (measured on nine frig synth subjects: docs/retarget.md).
  * Why: a point-to-surface deformation (Algorithm 7) can only move the surface along its normal;
  * where the fit from landmarks put the nose or the eyes a few millimetres off, the cloud cannot
  * say so, but the model's identity modes tie those positions to the surface's shape. Measured:
@@ -121,6 +125,35 @@ static void symmetrize(double *M, int n) {
         for (int b = a + 1; b < n; b++) M[(size_t)b * n + a] = M[(size_t)a * n + b];
 }
 
+/* A cloud's own identity c ~ N(0, spread I) about the shared one (its errors are smooth and
+ * common to its points, not independent per match): eliminating c from the photo's reduced system
+ * S_i (delta + c) = g_i leaves S_i' = S_i (I + spread S_i)^-1 and g_i' = (I + spread S_i)^-1 g_i,
+ * in place. Work: n (2 n + 1) doubles. */
+static frig_status cap_by_spread(frig_ctx *ctx, int n, double spread, double *Si, double *gi, double *work) {
+    double *M = work, *X = M + (size_t)n * n;
+    for (size_t e = 0; e < (size_t)n * n; e++) M[e] = spread * Si[e];
+    for (int a = 0; a < n; a++) M[(size_t)a * n + a] += 1.0;
+    memcpy(X, Si, sizeof(double) * (size_t)n * n);
+    memcpy(X + (size_t)n * n, gi, sizeof(double) * n);
+    if (fr_solve_spd(ctx, n, n + 1, M, n, X, n)) return ctx->status;
+    memcpy(Si, X, sizeof(double) * (size_t)n * n);
+    symmetrize(Si, n); /* (rounding) */
+    memcpy(gi, X + (size_t)n * n, sizeof(double) * n);
+    return FRIG_OK;
+}
+
+/* The identity step photo i's weights see: the shared step delta, plus its cloud's own part
+ * c = spread (g_i' - S_i' delta) when the clouds have a spread. */
+static void photo_step(double spread, int n, const per_photo *q, const double *delta, double *d) {
+    memcpy(d, delta, sizeof(double) * n);
+    if (!(spread > 0)) return;
+    for (int a = 0; a < n; a++) {
+        double r = q->u[a];
+        for (int b = 0; b < n; b++) r -= q->A[(size_t)b * n + a] * delta[b];
+        d[a] += spread * r;
+    }
+}
+
 frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const frig_model *model, frig_rig *rig,
                                const fr_rt_mesh *m, int K, const int *fit_shape, int n, fr_rt_photo *photos,
                                double *identity, int n_id, int iterations) {
@@ -220,9 +253,20 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
                 st = ctx->status;
                 break;
             }
-            /* S += A - B W_B, g += u - B W_v */
-            cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n_id, n_id, K, -1.0, q->B, n_id, J, K, 1.0, S, n_id);
-            cblas_dgemv(CblasColMajor, CblasNoTrans, n_id, K, -1.0, q->B, n_id, J + (size_t)n_id * K, 1, 1.0, g, 1);
+            if (s->identity_spread > 0) {
+                /* S_i = A - B W_B, g_i = u - B W_v in place of A and u, then capped by the cloud's spread */
+                cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n_id, n_id, K, -1.0, q->B, n_id, J, K, 1.0,
+                            q->A, n_id);
+                cblas_dgemv(CblasColMajor, CblasNoTrans, n_id, K, -1.0, q->B, n_id, J + (size_t)n_id * K, 1, 1.0, q->u,
+                            1);
+                symmetrize(q->A, n_id);
+                if ((st = cap_by_spread(ctx, n_id, s->identity_spread, q->A, q->u, Cf))) break;
+            } else {
+                /* S += A - B W_B, g += u - B W_v */
+                cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, n_id, n_id, K, -1.0, q->B, n_id, J, K, 1.0, S,
+                            n_id);
+                cblas_dgemv(CblasColMajor, CblasNoTrans, n_id, K, -1.0, q->B, n_id, J + (size_t)n_id * K, 1, 1.0, g, 1);
+            }
             for (size_t e = 0; e < (size_t)n_id * n_id; e++) S[e] += q->A[e];
             for (int a = 0; a < n_id; a++) g[a] += q->u[a];
             used++;
@@ -248,8 +292,9 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
         for (int i = 0; i < n; i++) {
             per_photo *q = &pp[i];
             if (!q->rows || failed) continue;
-            double *ge = work + per_thread * (size_t)omp_get_thread_num(), *lo = ge + K, *hi = lo + K;
-            cblas_dgemv(CblasColMajor, CblasTrans, n_id, K, 1.0, q->B, n_id, g, 1, 0.0, ge, 1);
+            double *ge = work + per_thread * (size_t)omp_get_thread_num(), *lo = ge + K, *hi = lo + K, *d = hi + K;
+            photo_step(s->identity_spread, n_id, q, g, d);
+            cblas_dgemv(CblasColMajor, CblasTrans, n_id, K, 1.0, q->B, n_id, d, 1, 0.0, ge, 1);
             double l1 = s->weights_sparse * q->surface; /* rows are residuals in units of SIGMA = 1 mm */
             for (int a = 0; a < K; a++) ge[a] += l1 - q->v[a], lo[a] = 0, hi[a] = 1;
             if (fr_box_qp(NULL, K, q->C, ge, lo, hi, photos[i].w)) failed = 1;

@@ -33,6 +33,7 @@ typedef struct fr_rt_settings {
     int transfer_gradients;  /* E_t's target: 1 deformation transfer, 0 the template's deltas */
     int anchor_frame;        /* 1: the rig is moved back rigidly to its frame after the pass */
     double identity_prior;   /* weight of the identity's prior N(0, I) against the clouds (1: matches at 1 mm) */
+    double identity_spread;  /* variance of a cloud's own identity about the shared one (0: none) */
     int mean_size;           /* 1: the identity step keeps the mean face's size (fit.mean_size) */
     int threads;
 } fr_rt_settings;
