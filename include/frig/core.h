@@ -220,7 +220,7 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_MAX_NORMAL_ANGLE = 708,  /* degrees (default 60) */
     FRIG_PARAM_RETARGET_MIN_CONFIDENCE = 709,    /* cloud points below are ignored (default 0.5) */
     FRIG_PARAM_RETARGET_SPACING_MM = 710,        /* clouds thinned to one point per cube this wide (default 4) */
-    FRIG_PARAM_RETARGET_SMOOTH_MM = 711,         /* smoothing length of the Laplacian deformation (default 10) */
+    FRIG_PARAM_RETARGET_SMOOTH_MM = 711,         /* smoothing length of the Laplacian deformation (default 20) */
     FRIG_PARAM_RETARGET_TANGENTIAL = 712,        /* share of a match's tangential offset it pulls by (default 0.25) */
     FRIG_PARAM_RETARGET_WEIGHTS_PRIOR = 713,     /* ridge on the weights' change (default 0.1) */
     FRIG_PARAM_RETARGET_STOP_MM = 714,           /* the outer loop stops when the neutral moves less (default 0.05) */

@@ -214,7 +214,7 @@ static const param_row rows[] = {
      "cloud points of lower confidence are not used"},
     {FRIG_PARAM_RETARGET_SPACING_MM, "retarget.spacing_mm", 4, 0.1, 100, 0,
      "clouds are thinned to one point per cube this wide (mm)"},
-    {FRIG_PARAM_RETARGET_SMOOTH_MM, "retarget.smooth_mm", 10, 0.1, 1000, 0,
+    {FRIG_PARAM_RETARGET_SMOOTH_MM, "retarget.smooth_mm", 20, 0.1, 1000, 0,
      "smoothing length of the Laplacian deformation toward a cloud (mm)"},
     {FRIG_PARAM_RETARGET_TANGENTIAL, "retarget.tangential", 0.25, 0, 1, 0,
      "share of a correspondence's offset along the surface it pulls by (0: point-to-plane, 1: point-to-point)"},
