@@ -6,7 +6,10 @@
  * mesh over the same pixels; the rotation error of the fit and of the refined pose; with the
  * truth's class maps, the share of bad pixels (cast shadow, highlight, occluder, hair) that the
  * skin mask and region selection remove and of good skin they keep; the neutral of the rig with
- * the shared displacement against the true neutral; and the stage's time.
+ * the shared displacement against the true neutral; the stage's time; and the expression weights
+ * the clouds were drawn at against the truth's (mean |w - w_true| per weight, and the rig moved
+ * by the weights' errors, mm over the narrow face), the fit's and the stage's
+ * (sfs.expression_steps).
  * --stereo W adds the photos' own gradients to the shared shape (the multi-view term, gain W),
  * --joint-pose N N steps of each photo's pose against the shared shape per round, --joint-albedo
  * the texels' albedo solved with the shared shape, --shape-iterations N and --shape-sigma S its
@@ -263,7 +266,8 @@ int main(int argc, char **argv) {
     double *qw = malloc(sizeof(double) * 3 * (size_t)(run.n + 1)), *Rtrue = malloc(sizeof(double) * 9 * (size_t)(run.n + 1));
     double *Rfit = malloc(sizeof(double) * 9 * (size_t)(run.n + 1)), *Rjs = malloc(sizeof(double) * 9 * (size_t)(run.n + 1));
     long bad = 0, good = 0, bad_skin = 0, bad_kept = 0, good_skin = 0, good_kept = 0;
-    int rows = 0;
+    int rows = 0, wcount = 0;
+    double wfit_err = 0, wref_err = 0, wsurf_fit = 0, wsurf_ref = 0;
     for (int k = 0; k < run.n; k++) {
         const fr_photo *p = &set->photos[run.photo[k]];
         fr_sfs_view *v = &run.views[k];
@@ -281,6 +285,32 @@ int main(int argc, char **argv) {
             bench_truth_free(&tr);
             continue;
         }
+        /* the expression weights against the truth's, by name: the fit's and the stage's (refined) */
+        double *dwf = calloc((size_t)rig->shape_count + 1, sizeof(double));
+        double *dwr = calloc((size_t)rig->shape_count + 1, sizeof(double));
+        for (int e = 0; e < set->n_expressions; e++) {
+            int ks = frig_rig_shape_find(rig, set->expression_names[e]);
+            int kt = frig_rig_shape_find(truth_rig, set->expression_names[e]);
+            double wt = kt >= 0 ? tr.weights[kt] : 0;
+            wfit_err += fabs(p->fit_expression[e] - wt), wref_err += fabs((ks >= 0 ? v->weights[ks] : 0) - wt);
+            wcount++;
+            if (ks >= 0) dwf[ks] = p->fit_expression[e] - wt, dwr[ks] = v->weights[ks] - wt;
+        }
+        /* and as a surface: the rig moved by the weights' errors, mean over the narrow face, mm */
+        int nfv = 6706 < rig->topo.vertex_count ? 6706 : rig->topo.vertex_count;
+        size_t n3 = 3 * (size_t)rig->topo.vertex_count;
+        double sf = 0, sr = 0;
+        for (int q = 0; q < nfv; q++) {
+            double a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
+            for (int j = 0; j < rig->shape_count; j++)
+                for (int c = 0; c < 3; c++) {
+                    double dl = rig->deltas[n3 * j + 3 * (size_t)q + c];
+                    a[c] += dwf[j] * dl, b[c] += dwr[j] * dl;
+                }
+            sf += sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]), sr += sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+        }
+        wsurf_fit += 1e3 * sf / nfv, wsurf_ref += 1e3 * sr / nfv;
+        free(dwf), free(dwr);
         fr_sfs_select_region(v, &st);
         double R2[9], t2[3];
         memcpy(R2, v->R, sizeof R2), memcpy(t2, v->t, sizeof t2);
@@ -341,6 +371,12 @@ int main(int argc, char **argv) {
     printf("%d photos scored; per-photo mean error, mean (median) over photos: cloud %.3f (%.3f) mm, reference %.3f (%.3f), "
            "fit %.3f (%.3f); cloud / fit %.3f\n",
            rows, a[0], a[1], b[0], b[1], d[0], d[1], d[0] > 0 ? a[0] / d[0] : NAN);
+    printf("expression weights against the truth's, mean |w - w_true| per weight: fit %.4f, the stage's %.4f "
+           "(%d weights)\n",
+           wfit_err / (wcount ? wcount : 1), wref_err / (wcount ? wcount : 1), wcount);
+    printf("the rig moved by the weights' errors, mean over the narrow face and the photos: fit %.3f mm, the stage's "
+           "%.3f mm\n",
+           wsurf_fit / (rows ? rows : 1), wsurf_ref / (rows ? rows : 1));
     double h[3], cm[3], turn = common_turn_error(Rfit, Rtrue, rows, qw, cm);
     printf("the fit's rotation error after its common turn (%.2f deg): mean %.2f (median %.2f) deg\n", turn, cm[0], cm[1]);
     turn = common_turn_error(Rjs, Rtrue, rows, qw, cm);

@@ -193,6 +193,9 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 0) */
     FRIG_PARAM_SFS_JOINT_MIN_PHOTOS = 626,  /* fewer photos: the light shared solve, no registration (default 16; docs/sfs.md) */
     FRIG_PARAM_SFS_JOINT_MAX_PHOTOS = 627,  /* more photos: the light shared solve too, for time (default 60; 0: no limit) */
+    FRIG_PARAM_SFS_EXPRESSION_STEPS = 628,  /* each photo's expression steps per full shared round (default 3; 0 off) */
+    FRIG_PARAM_SFS_EXPRESSION_PRIOR = 629,  /* refined expression weights held to the fit's (default 0.3) */
+    FRIG_PARAM_SFS_EXPRESSION_SPARSE = 630, /* L1 on the refined expression weights (default 0.3) */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

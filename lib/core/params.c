@@ -166,6 +166,15 @@ static const param_row rows[] = {
     {FRIG_PARAM_SFS_JOINT_MAX_PHOTOS, "sfs.joint_max_photos", 60, 0, 1e6, 1,
      "with more photos to judge than this, the light shared solve too: the full one's cost grows with the photos (91 "
      "video frames: 34 CPU s for the shared shape against 6) and frig run keeps 100 photos under a minute; 0: no limit"},
+    {FRIG_PARAM_SFS_EXPRESSION_STEPS, "sfs.expression_steps", 3, 0, 50, 1,
+     "Gauss-Newton steps of each photo's expression weights against its own shading and image gradients after each "
+     "round of the full shared solve (the rig at the weights plus the shared displacement; the light solve keeps the fit's; "
+     "0: the fit's weights everywhere)"},
+    {FRIG_PARAM_SFS_EXPRESSION_PRIOR, "sfs.expression_prior", 0.3, 0, 1e6, 0,
+     "weight of the refined expression weights' prior toward the fit's (per squared weight, against the mean robust "
+     "shading energy per texel)"},
+    {FRIG_PARAM_SFS_EXPRESSION_SPARSE, "sfs.expression_sparse", 0.3, 0, 1e6, 0,
+     "weight of the L1 sparsity of the refined expression weights (against the mean robust shading energy per texel)"},
 
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,

@@ -42,6 +42,10 @@ typedef struct fr_sfs_settings {
     int joint_min_photos; /* fewer photos than this: the light shared solve (fr_sfs_light_shared_solve) */
     int joint_max_photos; /* more photos than this (0: no limit): the light shared solve too, for time */
     double pose_sigma_px; /* the finest blur level, crop pixels for a 160-pixel face (0: its default, 2) */
+    /* each photo's expression refined after each round (sfs.expression_*; sfs_expression.c) */
+    int expression_steps;     /* Gauss-Newton steps per round (0: the fit's weights) */
+    double expression_prior;  /* held to the fit's weights */
+    double expression_sparse; /* L1 */
     const uint8_t *shape_use; /* per photo of the set: used by the shared shape (NULL: every usable photo) */
 } fr_sfs_settings;
 

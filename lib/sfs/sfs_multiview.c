@@ -30,6 +30,8 @@
 #include "core/context.h"
 #include "raster/raster.h"
 #include "raster/rotation.h"
+#include "rig/rig.h"
+#include "sfs/sfs_expression.h"
 #include "sfs/sfs_multiview.h"
 #include "sfs/sfs_pose_align.h"
 #include "sparse/sparse.h"
@@ -52,6 +54,9 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
     o->joint_albedo = 0;
     o->pose_levels = 0;
     o->pose_sigma_px = 2.0;
+    o->expression_steps = 0;
+    o->expression_prior = 0.3;
+    o->expression_sparse = 0.3;
 }
 
 /* One photo's view of the texels: the rig's texel points and normals at its expression, and
@@ -82,6 +87,10 @@ typedef struct mv {
     double *Haa, *HaD, *ga; /* joint albedo: per texel 3, 9 (3 x the stencil's 3) and 3 */
     size_t *damped;     /* per texel: its diagonal triplet holding w_anchor + mu */
     const fr_sfs_albedo *ps; /* the first albedo (its observation weights tell the well-seen texels) */
+    fr_sfs_expression_grid eg; /* the expression step's shapes at the texels (o->expression_steps > 0) */
+    int *eshape, *eoffset, *elist;
+    float *edX;
+    double *w0;         /* per view: the weights it started with (the expression step's prior) */
 } mv;
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
@@ -191,20 +200,20 @@ static int texel_normal(const mv *s, const double *D, int k, int t, double N[3],
     return 1;
 }
 
-static double tukey_w(double u) {
+double fr_sfs_tukey_w(double u) {
     u /= TUKEY_C;
     return fabs(u) < 1 ? (1 - u * u) * (1 - u * u) : 0;
 }
 
-static double tukey_rho(double u) {
+double fr_sfs_tukey_rho(double u) {
     double c2 = TUKEY_C * TUKEY_C;
     if (fabs(u) >= TUKEY_C) return c2 / 6.0;
     double q = 1 - (u / TUKEY_C) * (u / TUKEY_C);
     return c2 / 6.0 * (1 - q * q * q);
 }
 
-/* Shading of photo k for head-frame normal N, and its gradient by N (per channel, 3). */
-static void shade(const fr_sfs_view *v, const double N[3], double S[3], double G[3][3]) {
+/* Shading of photo v for head-frame normal N, and its gradient by N (per channel, 3). */
+void fr_sfs_shade_head(const fr_sfs_view *v, const double N[3], double S[3], double G[3][3]) {
     double nc[3], y[FR_SH_COUNT], dy[3 * FR_SH_COUNT];
     fr_mat3_apply(v->R, N, nc);
     if (G) fr_sh_basis_gradient(nc, y, dy);
@@ -240,11 +249,11 @@ static double texel_energy(const mv *s, const double *D, const float *albedo, in
     for (int k = 0; k < s->nviews; k++) {
         const photo_texels *p = &s->pt[k];
         if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, D, k, t, N, NULL)) continue;
-        shade(&s->views[k], N, S, NULL);
+        fr_sfs_shade_head(&s->views[k], N, S, NULL);
         double I[3];
         observed(s, p, D, t, I);
         double sc = obs_scale(s, p->I + 3 * (size_t)t);
-        for (int c = 0; c < 3; c++) e += p->w[t] * tukey_rho((albedo[3 * t + c] * S[c] - I[c]) / sc);
+        for (int c = 0; c < 3; c++) e += p->w[t] * fr_sfs_tukey_rho((albedo[3 * t + c] * S[c] - I[c]) / sc);
     }
     return e;
 }
@@ -289,12 +298,12 @@ static void texel_normal_equations(const mv *s, int t, double H[6], double g[3])
     for (int k = 0; k < s->nviews; k++) {
         const photo_texels *p = &s->pt[k];
         if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, s->D, k, t, N, dN)) continue;
-        shade(&s->views[k], N, S, G);
+        fr_sfs_shade_head(&s->views[k], N, S, G);
         double I[3];
         observed(s, p, s->D, t, I);
         double sc = obs_scale(s, p->I + 3 * (size_t)t);
         for (int c = 0; c < 3; c++) {
-            double a = s->albedo[3 * t + c], r = (a * S[c] - I[c]) / sc, w = p->w[t] * tukey_w(r);
+            double a = s->albedo[3 * t + c], r = (a * S[c] - I[c]) / sc, w = p->w[t] * fr_sfs_tukey_w(r);
             double j[3];
             for (int q = 0; q < 3; q++) j[q] = a / sc * (G[c][0] * dN[q][0] + G[c][1] * dN[q][1] + G[c][2] * dN[q][2]);
             j[0] -= p->dI[3 * (size_t)t + c] / sc;
@@ -393,13 +402,13 @@ static void update_albedo(mv *s, int threads) {
                 if (!s->use[k] || !(p->w[t] > 0)) continue;
                 if (!texel_normal(s, s->D, k, t, N, NULL))
                     for (int q = 0; q < 3; q++) N[q] = p->n[3 * t + q];
-                shade(&s->views[k], N, S, NULL);
+                fr_sfs_shade_head(&s->views[k], N, S, NULL);
                 double I[3];
                 observed(s, p, s->D, t, I);
                 double sc = obs_scale(s, p->I + 3 * (size_t)t);
                 for (int c = 0; c < 3; c++) {
                     double w = p->w[t] / (sc * sc);
-                    if (pass) w *= tukey_w((s->albedo[3 * t + c] * S[c] - I[c]) / sc);
+                    if (pass) w *= fr_sfs_tukey_w((s->albedo[3 * t + c] * S[c] - I[c]) / sc);
                     num[c] += w * S[c] * I[c], den[c] += w * S[c] * S[c];
                 }
             }
@@ -474,9 +483,9 @@ static double pose_terms(const mv *s, int k, const double R[9], const double tv[
             }
             S[c] = sh > 0 ? sh : 0;
             double a = s->albedo[3 * t + c], r = (a * S[c] - I[c]) / sc;
-            e += p->w[t] * tukey_rho(r);
+            e += p->w[t] * fr_sfs_tukey_rho(r);
             if (!H) continue;
-            double u[3], jr[6], w = p->w[t] * tukey_w(r);
+            double u[3], jr[6], w = p->w[t] * fr_sfs_tukey_w(r);
             if (!(w > 0)) continue;
             for (int d = 0; d < 3; d++) u[d] = J[d] * gx[c] + J[3 + d] * gy[c];
             if (!(sh > 0)) gc[0] = gc[1] = gc[2] = 0;
@@ -556,6 +565,106 @@ static void mv_free(mv *s) {
     for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w), free(s->pt[k].dI);
     free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
     free(s->H), free(s->albedo), free(s->albedo_try), free(s->Haa), free(s->HaD), free(s->ga), free(s->damped);
+    free(s->eshape), free(s->eoffset), free(s->elist), free(s->edX), free(s->w0);
+}
+
+/* The expression step's grid: each rig shape's delta at the texels, the shapes that move the face
+ * by more than 0.1 mm somewhere; and every view's starting weights. */
+static frig_status expression_init(frig_ctx *ctx, mv *s) {
+    const fr_sfs_mesh *m = s->m;
+    const frig_rig *rig = m->rig;
+    size_t n3 = 3 * (size_t)m->nv, nt = (size_t)s->nt;
+    s->eshape = malloc(sizeof(int) * ((size_t)m->shapes + 1));
+    s->edX = malloc(sizeof(float) * 3 * nt * ((size_t)m->shapes + 1));
+    s->w0 = malloc(sizeof(double) * ((size_t)m->shapes * s->nviews + 1));
+    if (!s->eshape || !s->edX || !s->w0) return fr_nomem(ctx, "the expression step");
+    for (int k = 0; k < s->nviews; k++)
+        memcpy(s->w0 + (size_t)m->shapes * k, s->views[k].weights, sizeof(double) * m->shapes);
+    int na = 0;
+    for (int j = 0; j < m->shapes; j++) {
+        float *d = s->edX + 3 * nt * (size_t)na, big = 0;
+        const float *delta = rig->deltas + n3 * (size_t)j;
+        for (size_t t = 0; t < nt; t++) {
+            const int32_t *tri = m->tris + 3 * (size_t)s->uv->tri[t];
+            const float *b = s->uv->bary + 3 * t;
+            for (int q = 0; q < 3; q++) {
+                double x = 0;
+                for (int c = 0; c < 3; c++) x += b[c] * delta[3 * (size_t)tri[c] + q];
+                d[3 * t + q] = (float)x, big = fabsf((float)x) > big ? fabsf((float)x) : big;
+            }
+        }
+        if (big > 1e-4f) s->eshape[na++] = j;
+    }
+    /* per texel, the shapes that move it or its grid neighbours by more than a micrometre (most
+     * shapes are local; the rest count as still there) */
+    s->eoffset = malloc(sizeof(int) * (nt + 1));
+    if (!s->eoffset) return fr_nomem(ctx, "the expression step");
+    size_t count = 0;
+    for (int pass = 0; pass < 2; pass++) {
+        count = 0;
+        for (size_t t = 0; t < nt; t++) {
+            s->eoffset[t] = (int)count;
+            int u[3] = {(int)t, s->right[t], s->down[t]};
+            for (int j = 0; j < na; j++) {
+                int moves = 0;
+                for (int c = 0; c < 3 && !moves; c++) {
+                    const float *d = u[c] >= 0 ? s->edX + 3 * (nt * (size_t)j + (size_t)u[c]) : NULL;
+                    moves = d && fabsf(d[0]) + fabsf(d[1]) + fabsf(d[2]) > 1e-6f;
+                }
+                if (moves && pass) s->elist[count] = j;
+                count += moves;
+            }
+        }
+        s->eoffset[nt] = (int)count;
+        if (!pass && !(s->elist = malloc(sizeof(int) * (count + 1)))) return fr_nomem(ctx, "the expression step");
+    }
+    fr_log(ctx, FRIG_LOG_DEBUG, "sfs: expression step: %d shapes, %.1f per texel", na, (double)count / (nt ? nt : 1));
+    s->eg = (fr_sfs_expression_grid){s->nt, s->right, s->down, s->sign, m->shapes, na, s->eshape, s->edX, s->eoffset,
+                                     s->elist};
+    return FRIG_OK;
+}
+
+/* Every photo's expression weights refined against its pixels with the shared surface, albedo
+ * and its lighting held (sfs_expression.c); its texel geometry and its view drawn again at them. */
+static frig_status expression_step(frig_ctx *ctx, mv *s, int threads) {
+    int T = s->uv->size;
+    size_t TT = (size_t)T * T;
+    float *disp = calloc(TT, sizeof(float)), *vd = malloc(sizeof(float) * ((size_t)s->m->nv + 1));
+    frig_status st = !disp || !vd ? fr_nomem(ctx, "the expression step") : FRIG_OK;
+    for (int t = 0; t < s->nt && !st; t++) disp[s->uv->texel[t]] = (float)(s->D[t] * MM);
+    if (!st) st = fr_sfs_vertex_displacement(ctx, s->m, disp, T, vd);
+    fr_sfs_expression_options eo = {s->o->expression_steps, s->o->sigma, s->o->expression_prior,
+                                    s->o->expression_sparse, s->o->w_stereo > 0};
+    int failed = 0;
+    double moved = 0, gain = 0;
+    int photos = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) reduction(+ : moved, gain, photos)
+    for (int k = 0; k < s->nviews; k++) {
+        if (!s->use[k] || st) continue;
+        frig_ctx child;
+        fr_ctx_init_child(&child, ctx);
+        fr_sfs_view *v = &s->views[k];
+        const photo_texels *p = &s->pt[k];
+        fr_sfs_expression_photo ep = {p->X, p->n, p->I, p->w, s->D, s->albedo};
+        double before[256], change = 0;
+        int na = s->eg.active < 256 ? s->eg.active : 256;
+        for (int j = 0; j < na; j++) before[j] = v->weights[s->eshape[j]];
+        fr_sfs_expression_refine(&child, &s->eg, &ep, v, s->w0 + (size_t)s->m->shapes * k, &eo, &change);
+        double d = 0;
+        for (int j = 0; j < na; j++) d += fabs(v->weights[s->eshape[j]] - before[j]);
+        moved += d, gain += change, photos++;
+        double R[9], t[3];
+        memcpy(R, v->R, sizeof R), memcpy(t, v->t, sizeof t);
+        /* the registration that follows draws the view again itself */
+        if (photo_geometry(&child, s, k) || (s->o->pose_levels <= 0 && fr_sfs_view_render(&child, s->m, v, R, t, vd)))
+            failed = 1;
+    }
+    if (failed && !st) st = fr_nomem(ctx, "the expression step");
+    fr_log(ctx, FRIG_LOG_DEBUG,
+           "sfs: expression step: %d photos, weights moved by %.4f (sum |dw|) and the energy by %.2f%% on average", photos,
+           photos ? moved / photos : 0, photos ? 100 * gain / photos : 0);
+    free(disp), free(vd);
+    return st;
 }
 
 /* The albedo the registration draws (T x T, with a weight per texel): the texels' albedo where
@@ -670,6 +779,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     memset(&tr, 0, sizeof tr);
     fr_cholesky *ch = NULL;
     if (!st) st = fr_triplets_init(ctx, &tr, s.nt, s.nt, (size_t)s.nt * 16);
+    if (!st && o->expression_steps > 0) st = expression_init(ctx, &s);
     /* the photos registered to the rig and the first albedo before the first round */
     if (o->pose_levels > 0 && !st && k0 < nviews) st = joint_pose(ctx, &s, threads, 0, o->pose_levels);
     for (int outer = 0; outer < o->outer && !st && k0 < nviews; outer++) {
@@ -725,7 +835,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
             fr_ctx_init_child(&child, ctx);
             update_lighting(&s, k, &child);
         }
-        /* the registration: the whole pyramid after the first round, its finest level after the others */
+        /* each photo's expression against its pixels, then the registration: the whole pyramid
+         * after the first round, its finest level after the others */
+        if (o->expression_steps > 0 && !st) st = expression_step(ctx, &s, threads);
         int levels = o->pose_levels > 0 ? (outer < 1 ? o->pose_levels : 1) : 0;
         if ((o->pose_steps > 0 || levels > 0) && !st) st = joint_pose(ctx, &s, threads, o->pose_steps, levels);
     }

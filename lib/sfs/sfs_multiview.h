@@ -22,6 +22,9 @@ typedef struct fr_sfs_multiview_options {
     int pose_levels;  /* each photo's pose registered coarse to fine (sfs_pose_align.c) before the shared solve and
                        * after each round, with this many blur levels (0: off) */
     double pose_sigma_px; /* the finest level's blur, crop pixels for a 160-pixel face */
+    int expression_steps;     /* each photo's expression weights refined after each round (sfs_expression.c; 0 off) */
+    double expression_prior;  /* held to the weights the views start with (the fit's) */
+    double expression_sparse; /* L1 on the weights */
 } fr_sfs_multiview_options;
 
 void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o);
@@ -30,6 +33,14 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o);
  * start and updated; each used view's lighting is refitted on the displaced surface. */
 frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_uv *uv, fr_sfs_view *views, int nviews,
                              const uint8_t *use, const fr_sfs_multiview_options *o, fr_sfs_albedo *ps, float *disp);
+
+/* Photo v's shading for head-frame normal N (per channel, clamped at 0) and, with G, its gradient by N
+ * (3 per channel; 0 where clamped). */
+void fr_sfs_shade_head(const fr_sfs_view *v, const double N[3], double S[3], double G[3][3]);
+
+/* Tukey's biweight (c 4.685): the IRLS weight and the energy of a scaled residual u. */
+double fr_sfs_tukey_w(double u);
+double fr_sfs_tukey_rho(double u);
 
 /* Per vertex of the rig: the displacement at its UV (metres; 0 for vertices off the face). */
 frig_status fr_sfs_vertex_displacement(frig_ctx *ctx, const fr_sfs_mesh *m, const float *disp, int T, float *out);

@@ -250,6 +250,9 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
         mo.pose_levels = st->pose_levels;
         if (st->pose_sigma_px > 0) mo.pose_sigma_px = st->pose_sigma_px;
         mo.outer = st->rounds;
+        mo.expression_steps = st->expression_steps;
+        mo.expression_prior = st->expression_prior;
+        mo.expression_sparse = st->expression_sparse;
         uint8_t *use = malloc((size_t)r->n + 1);
         if (!use && !s) s = fr_nomem(ctx, "the multi-view solve");
         for (int k = 0; use && k < r->n; k++) use[k] = r->ok[k] && (!st->shape_use || st->shape_use[r->photo[k]]);

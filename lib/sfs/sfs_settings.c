@@ -30,6 +30,9 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->pose_sigma_px = fr_param(ctx, FRIG_PARAM_SFS_POSE_SIGMA);
     s->joint_min_photos = fr_param_int(ctx, FRIG_PARAM_SFS_JOINT_MIN_PHOTOS);
     s->joint_max_photos = fr_param_int(ctx, FRIG_PARAM_SFS_JOINT_MAX_PHOTOS);
+    s->expression_steps = fr_param_int(ctx, FRIG_PARAM_SFS_EXPRESSION_STEPS);
+    s->expression_prior = fr_param(ctx, FRIG_PARAM_SFS_EXPRESSION_PRIOR);
+    s->expression_sparse = fr_param(ctx, FRIG_PARAM_SFS_EXPRESSION_SPARSE);
     s->shape_use = NULL;
 }
 
@@ -37,6 +40,7 @@ void fr_sfs_light_shared_solve(fr_sfs_settings *s) {
     s->w_stereo = 0;
     s->joint_albedo = 0;
     s->pose_levels = 0;
+    s->expression_steps = 0;
     if (s->rounds > 3) s->rounds = 3;
     if (s->shape_iterations > 4) s->shape_iterations = 4;
     s->shape_sigma = 0.03;

@@ -162,6 +162,22 @@ frig_status frig_sfs(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, con
 static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
                          const char *overlay_dir, frig_clouds **clouds, frig_image **albedo, fr_sfs_run **keep);
 
+/* The rig weights a photo's cloud was drawn at, by the fit's expression names, into the report
+ * (NULL: the fit's, nothing recorded). */
+static frig_status sfs_expression_to_report(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, size_t i,
+                                            const double *rig_weights) {
+    if (!rig_weights || set->n_expressions <= 0) return fr_photoset_set_sfs_expression(ctx, set, i, NULL);
+    double *w = malloc(sizeof(double) * (size_t)set->n_expressions);
+    if (!w) return fr_nomem(ctx, "a photo's sfs expression");
+    for (int e = 0; e < set->n_expressions; e++) {
+        int k = frig_rig_shape_find(rig, set->expression_names[e]);
+        w[e] = k >= 0 ? rig_weights[k] : set->photos[i].fit_expression[e];
+    }
+    frig_status s = fr_photoset_set_sfs_expression(ctx, set, i, w);
+    free(w);
+    return s;
+}
+
 frig_status fr_sfs_stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
                          const char *overlay_dir, frig_clouds **clouds, frig_image **albedo) {
     return stage(ctx, rig, set, st, overlay_dir, clouds, albedo, NULL);
@@ -222,8 +238,10 @@ static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set,
         }
         fr_photoset_set_sfs(p, v->face_pixels, run.ok[k] ? v->kept_pixels : 0, v->sfs_error, sh, v->R_refined,
                             v->t_refined);
-        s = frig_photoset_set_status(ctx, set, run.photo[k], run.ok[k] ? FRIG_PHOTO_OK : FRIG_PHOTO_SFS_FAILED,
-                                     run.ok[k] ? NULL : run.reason[k]);
+        s = sfs_expression_to_report(ctx, rig, set, run.photo[k], run.st.expression_steps > 0 ? v->weights : NULL);
+        if (!s)
+            s = frig_photoset_set_status(ctx, set, run.photo[k], run.ok[k] ? FRIG_PHOTO_OK : FRIG_PHOTO_SFS_FAILED,
+                                         run.ok[k] ? NULL : run.reason[k]);
         if (!s && run.ok[k]) {
             usable++;
             if (cl) s = frig_clouds_set(ctx, cl, run.photo[k], (size_t)job.count[k], job.xyz[k], job.nrm[k], job.conf[k]);

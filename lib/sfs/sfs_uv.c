@@ -127,3 +127,12 @@ void fr_sfs_bilinear(const float *img, int w, int h, const double xy[2], double 
             for (int c = 0; c < 3; c++) out[c] += wt * img[3 * ((size_t)yy * w + xx) + c];
         }
 }
+
+void fr_sfs_image_gradient(const float *img, int w, int h, const double xy[2], double gx[3], double gy[3]) {
+    double a[3], b[3], xa[2] = {xy[0] + 1, xy[1]}, xb[2] = {xy[0] - 1, xy[1]};
+    fr_sfs_bilinear(img, w, h, xa, a), fr_sfs_bilinear(img, w, h, xb, b);
+    for (int c = 0; c < 3; c++) gx[c] = 0.5 * (a[c] - b[c]);
+    xa[0] = xb[0] = xy[0], xa[1] = xy[1] + 1, xb[1] = xy[1] - 1;
+    fr_sfs_bilinear(img, w, h, xa, a), fr_sfs_bilinear(img, w, h, xb, b);
+    for (int c = 0; c < 3; c++) gy[c] = 0.5 * (a[c] - b[c]);
+}

@@ -34,6 +34,10 @@ int fr_sfs_uv_at_pixel(const fr_sfs_mesh *m, const fr_sfs_view *v, size_t pixel,
  * repeated. */
 void fr_sfs_bilinear(const float *img, int w, int h, const double xy[2], double out[3]);
 
+/* The image's central-difference gradient at crop point xy (bilinear samples one pixel either
+ * side), per channel: gx along x, gy along y. */
+void fr_sfs_image_gradient(const float *img, int w, int h, const double xy[2], double gx[3], double gy[3]);
+
 /* Bilinear sample of a T x T texture with 'dim' floats per texel at uv (texel-centre
  * convention above); texels with weight[t] <= 0 (may be NULL) are left out and the others
  * renormalized. Returns 0 when no texel around uv has weight. */

@@ -30,6 +30,7 @@ void frig_photoset_free(frig_photoset *set) {
         free(set->photos[i].reason);
         free(set->photos[i].faces);
         free(set->photos[i].fit_expression);
+        free(set->photos[i].sfs_expression);
     }
     for (int k = 0; k < set->n_expressions; k++) free(set->expression_names[k]);
     free(set->expression_names);
@@ -256,8 +257,8 @@ int frig_photoset_filter(const frig_photoset *set, size_t i, double *error, doub
 
 static void drop_fits(frig_photoset *set) {
     for (size_t i = 0; i < set->count; i++) {
-        free(set->photos[i].fit_expression);
-        set->photos[i].fit_expression = NULL;
+        free(set->photos[i].fit_expression), free(set->photos[i].sfs_expression);
+        set->photos[i].fit_expression = set->photos[i].sfs_expression = NULL;
         set->photos[i].fitted = 0;
     }
     for (int k = 0; k < set->n_expressions; k++) free(set->expression_names[k]);

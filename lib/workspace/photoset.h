@@ -54,6 +54,7 @@ typedef struct fr_photo {
     double sfs_error;
     double sfs_lighting[27]; /* 9 per channel */
     double sfs_rotation[9], sfs_translation[3];
+    double *sfs_expression; /* the expression its cloud was drawn at (n_expressions; NULL: the fit's) */
 } fr_photo;
 
 /* retarget (section 5.3): one round of the outer loop. */
@@ -111,6 +112,8 @@ int fr_report_read_set_identity(frig_photoset *set, const void *json_root, char 
 /* Record one photo's shape-from-shading results (sfs_report.c). */
 void fr_photoset_set_sfs(fr_photo *p, int pixels, int kept, double error, const double lighting[27], const double R[9],
                          const double t[3]);
+/* The expression weights (set->n_expressions) sfs drew photo i's cloud at; NULL: the fit's. */
+frig_status fr_photoset_set_sfs_expression(frig_ctx *ctx, frig_photoset *set, size_t i, const double *weights);
 
 /* The subject face, or NULL when the photo has none (or it has no landmarks). */
 const fr_face *fr_photo_subject(const fr_photo *photo);

@@ -80,7 +80,7 @@ static void write_photo(fr_json *j, const frig_photoset *set, const fr_photo *p)
     }
     if (p->fitted) write_fit(j, set, p);
     fr_retarget_report_write_photo(j, p);
-    if (p->sfs_done) fr_report_write_sfs(j, p);
+    if (p->sfs_done) fr_report_write_sfs(j, set, p);
     fr_json_end(j);
 }
 
@@ -273,7 +273,7 @@ static frig_status read_photo(reader *r, frig_photoset *set, const cJSON *jp) {
     const cJSON *fit = cJSON_GetObjectItemCaseSensitive(jp, "fit");
     if (cJSON_IsObject(fit) && (s = read_fit(r, set, idx, fit))) return s;
     const cJSON *sfs = cJSON_GetObjectItemCaseSensitive(jp, "sfs");
-    if (cJSON_IsObject(sfs) && !fr_report_read_sfs(sfs, &set->photos[idx])) return bad(r, "\"sfs\" is malformed");
+    if (cJSON_IsObject(sfs) && !fr_report_read_sfs(r->ctx, sfs, set, idx)) return bad(r, "\"sfs\" is malformed");
     return fr_retarget_report_read_photo(r->ctx, set, idx, jp);
 }
 

@@ -1,8 +1,11 @@
 /* A photo's shape-from-shading results (paper section 5.1) in report.json:
  *   "sfs": {"pixels": 9800, "kept": 7400, "error": 0.031,
- *           "lighting": [[9 R], [9 G], [9 B]], "rotation": [9], "translation": [3]}
+ *           "lighting": [[9 R], [9 G], [9 B]], "rotation": [9], "translation": [3],
+ *           "expression": {"jawOpen": 0.31, ...}: the weights the cloud was drawn at, by the fit's names, the
+ *           non-zero ones; only when sfs refined them}
  * (docs/sfs.md, docs/workspace.md), and the photo set's accessors for them. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "core/context.h"
@@ -17,13 +20,26 @@ void fr_photoset_set_sfs(fr_photo *p, int pixels, int kept, double error, const 
     memcpy(p->sfs_translation, t, sizeof p->sfs_translation);
 }
 
+frig_status fr_photoset_set_sfs_expression(frig_ctx *ctx, frig_photoset *set, size_t i, const double *weights) {
+    fr_photo *p = &set->photos[i];
+    if (!weights || set->n_expressions <= 0) {
+        free(p->sfs_expression);
+        p->sfs_expression = NULL;
+        return FRIG_OK;
+    }
+    if (!p->sfs_expression && !(p->sfs_expression = malloc(sizeof(double) * (size_t)set->n_expressions)))
+        return fr_nomem(ctx, "a photo's sfs expression");
+    memcpy(p->sfs_expression, weights, sizeof(double) * (size_t)set->n_expressions);
+    return FRIG_OK;
+}
+
 static void numbers(fr_json *j, const char *key, const double *v, int n) {
     fr_json_array(j, key, 1);
     for (int k = 0; k < n; k++) fr_json_number(j, NULL, v[k]);
     fr_json_end(j);
 }
 
-void fr_report_write_sfs(fr_json *j, const fr_photo *p) {
+void fr_report_write_sfs(fr_json *j, const frig_photoset *set, const fr_photo *p) {
     fr_json_object(j, "sfs");
     fr_json_int(j, "pixels", p->sfs_pixels);
     fr_json_int(j, "kept", p->sfs_kept);
@@ -33,10 +49,18 @@ void fr_report_write_sfs(fr_json *j, const fr_photo *p) {
     fr_json_end(j);
     numbers(j, "rotation", p->sfs_rotation, 9);
     numbers(j, "translation", p->sfs_translation, 3);
+    if (p->sfs_expression && set->n_expressions > 0) {
+        /* as the fit's block writes its weights: by name, the non-zero ones */
+        fr_json_object(j, "expression");
+        for (int k = 0; k < set->n_expressions; k++)
+            if (p->sfs_expression[k] != 0) fr_json_number(j, set->expression_names[k], p->sfs_expression[k]);
+        fr_json_end(j);
+    }
     fr_json_end(j);
 }
 
-int fr_report_read_sfs(const cJSON *sfs, fr_photo *p) {
+int fr_report_read_sfs(frig_ctx *ctx, const cJSON *sfs, frig_photoset *set, size_t i) {
+    fr_photo *p = &set->photos[i];
     const cJSON *px = cJSON_GetObjectItemCaseSensitive(sfs, "pixels");
     const cJSON *kept = cJSON_GetObjectItemCaseSensitive(sfs, "kept");
     const cJSON *err = cJSON_GetObjectItemCaseSensitive(sfs, "error");
@@ -54,7 +78,19 @@ int fr_report_read_sfs(const cJSON *sfs, fr_photo *p) {
         return 0;
     /* a missing error (null: no skin pixel was left) reads back as NaN */
     fr_photoset_set_sfs(p, px->valueint, kept->valueint, cJSON_IsNumber(err) ? err->valuedouble : NAN, sh, R, t);
-    return 1;
+    /* the refined expression (absent: the fit's; older reports have none) */
+    const cJSON *ex = cJSON_GetObjectItemCaseSensitive(sfs, "expression");
+    double *w = ex && set->n_expressions > 0 ? calloc((size_t)set->n_expressions, sizeof(double)) : NULL;
+    int ok = !ex || (w && cJSON_IsObject(ex));
+    for (const cJSON *x = ok && ex ? ex->child : NULL; x && ok; x = x->next) {
+        int k = 0;
+        while (k < set->n_expressions && strcmp(set->expression_names[k], x->string)) k++;
+        if (k == set->n_expressions || !cJSON_IsNumber(x) || x->valuedouble < 0 || x->valuedouble > 1) ok = 0;
+        else w[k] = x->valuedouble;
+    }
+    if (ok && fr_photoset_set_sfs_expression(ctx, set, i, ex ? w : NULL)) ok = 0;
+    free(w);
+    return ok;
 }
 
 static const fr_photo *sfs_photo(const frig_photoset *set, size_t i) {

@@ -7,10 +7,10 @@
 #include "io/json_writer.h"
 #include "workspace/photoset.h"
 
-void fr_report_write_sfs(fr_json *j, const fr_photo *p);
+void fr_report_write_sfs(fr_json *j, const frig_photoset *set, const fr_photo *p);
 /* 1 when the block is well formed (then p has it), else 0. */
 /* 1 when a is an array of exactly n numbers, copied to out (report.c). */
 int fr_report_read_numbers(const cJSON *a, double *out, int n);
-int fr_report_read_sfs(const cJSON *sfs, fr_photo *p);
+int fr_report_read_sfs(frig_ctx *ctx, const cJSON *sfs, frig_photoset *set, size_t i);
 
 #endif
