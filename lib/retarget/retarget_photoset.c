@@ -74,8 +74,10 @@ frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset 
         q->M = malloc(sizeof(float) * 3 * (size_t)nf);
         q->cover = malloc(sizeof(float) * (size_t)nf);
         if (!q->w || !q->M || !q->cover) s = fr_nomem(ctx, "the retarget stage");
+        /* the expression the cloud was drawn at (sfs refines the fit's against the pixels) */
+        const double *w = p->sfs_expression ? p->sfs_expression : p->fit_expression;
         for (int k = 0; k < set->n_expressions && !s; k++)
-            if (slot[k] >= 0) q->w[slot[k]] = p->fit_expression[k];
+            if (slot[k] >= 0) q->w[slot[k]] = w[k];
     }
     if (!s && n == 0)
         s = fr_error(ctx, FRIG_ERR_TOO_FEW, "no photo has both a fit and a point cloud (run frig fit, then the "
