@@ -82,6 +82,8 @@ typedef struct mv {
     double *Haa, *HaD, *ga; /* joint albedo: per texel 3, 9 (3 x the stencil's 3) and 3 */
     size_t *damped;     /* per texel: its diagonal triplet holding w_anchor + mu */
     const fr_sfs_albedo *ps; /* the first albedo (its observation weights tell the well-seen texels) */
+    double *e_texel;         /* per texel: its 3 energy terms (energy()) */
+    int threads;
 } mv;
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
@@ -264,17 +266,25 @@ static int curv(const mv *s, int t, int dir, int nb[3]) {
     return 1;
 }
 
+/* The energy: each texel's terms in parallel (3 per texel: data + anchor, the two curvatures,
+ * 0 where a texel has none), summed in texel order (the same value whatever the thread count). */
 static double energy(const mv *s, const double *D, const float *albedo) {
-    double e = 0;
+    double *et = s->e_texel;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(s->threads)
     for (int t = 0; t < s->nt; t++) {
-        e += texel_energy(s, D, albedo, t) + s->o->w_anchor * D[t] * D[t];
+        et[3 * (size_t)t] = texel_energy(s, D, albedo, t) + s->o->w_anchor * D[t] * D[t];
         int nb[3];
-        for (int dir = 0; dir < 2; dir++)
+        for (int dir = 0; dir < 2; dir++) {
+            et[3 * (size_t)t + 1 + dir] = 0;
             if (curv(s, t, dir, nb)) {
                 double c = D[nb[0]] - 2 * D[nb[1]] + D[nb[2]];
-                e += s->o->w_smooth * c * c;
+                et[3 * (size_t)t + 1 + dir] = s->o->w_smooth * c * c;
             }
+        }
     }
+    double e = 0;
+    for (size_t q = 0; q < 3 * (size_t)s->nt; q++)
+        e += et[q];
     return e;
 }
 
@@ -555,7 +565,8 @@ static int cmp_float(const void *x, const void *y) {
 static void mv_free(mv *s) {
     for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w), free(s->pt[k].dI);
     free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
-    free(s->H), free(s->albedo), free(s->albedo_try), free(s->Haa), free(s->HaD), free(s->ga), free(s->damped);
+    free(s->H), free(s->albedo), free(s->albedo_try), free(s->Haa), free(s->HaD), free(s->ga), free(s->damped),
+        free(s->e_texel);
 }
 
 /* The albedo the registration draws (T x T, with a weight per texel): the texels' albedo where
@@ -631,9 +642,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     s.rhs = malloc(sizeof(double) * nt), s.H = malloc(sizeof(double) * 6 * nt), s.albedo = malloc(sizeof(float) * 3 * nt);
     s.albedo_try = malloc(sizeof(float) * 3 * nt), s.Haa = malloc(sizeof(double) * 3 * nt);
     s.HaD = malloc(sizeof(double) * 9 * nt), s.ga = malloc(sizeof(double) * 3 * nt);
-    s.damped = malloc(sizeof(size_t) * nt);
-    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs || !s.H || !s.albedo ||
-                         !s.albedo_try || !s.Haa || !s.HaD || !s.ga || !s.damped
+    s.damped = malloc(sizeof(size_t) * nt), s.e_texel = malloc(sizeof(double) * 3 * nt), s.threads = threads;
+    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs ||
+                             !s.H || !s.albedo || !s.albedo_try || !s.Haa || !s.HaD || !s.ga || !s.damped || !s.e_texel
                          ? fr_nomem(ctx, "the multi-view solve")
                          : FRIG_OK;
     for (int k = 0; k < nviews && !st; k++) {
