@@ -129,14 +129,6 @@ static int tri_setup(const fr_camera *cam, const float *const p[3], const double
     t->zmin = min2(t->z[0], min2(t->z[1], t->z[2]));
     t->zmax = max2(t->z[0], max2(t->z[1], t->z[2]));
     if (!cam->weak && t->zmax < near) return 0;
-    /* the projected corners known and in front: a box outside the image is rejected before the
-     * edge functions (the same answer as below, most of a mesh's triangles lie outside a crop) */
-    if (!cam->weak && uv && t->zmin >= near) {
-        double u0 = min2(uv[0][0], min2(uv[1][0], uv[2][0])), u1 = max2(uv[0][0], max2(uv[1][0], uv[2][0]));
-        double v0 = min2(uv[0][1], min2(uv[1][1], uv[2][1])), v1 = max2(uv[0][1], max2(uv[1][1], uv[2][1]));
-        if (!pixel_range(u0, u1, width, &t->x0, &t->x1) || !pixel_range(v0, v1, height, &t->y0, &t->y1))
-            return 0;
-    }
     /* e_i is the edge opposite corner i: P_{i+1} x P_{i+2}; det = P0 . (P1 x P2) */
     double cr[3][3];
     for (int i = 0; i < 3; i++) cross3(P[(i + 1) % 3], P[(i + 2) % 3], cr[i]);
