@@ -524,6 +524,36 @@ static void test_gaussian_blur(void) {
     CHECK(fabs(out[2 * (18 * W + 20)] - k0 * k0) < 1e-6);
     CHECK(fabs(var - kvar) < 1e-4 && kvar > 0.98 * sigma * sigma);
     CHECK(cmax < 1e-6);
+    /* a window is the whole image's blur there, bit for bit, and leaves the rest alone */
+    float *win = malloc(sizeof(float) * 2 * W * H);
+    if (win) {
+        srand(5);
+        for (int i = 0; i < 2 * W * H; i++)
+            in[i] = (float)(rand() % 1000) / 997.0f;
+        CHECK(fr_gaussian_blur(ctx, in, W, H, 2, 1.4, out) == FRIG_OK);
+        static const int boxes[3][4] = {{0, 0, W, H}, {3, 30, 40, 37}, {10, 5, 22, 19}};
+        int same = 1, untouched = 1;
+        for (int b = 0; b < 3; b++) {
+            for (int i = 0; i < 2 * W * H; i++)
+                win[i] = -7.0f;
+            const int *q = boxes[b];
+            CHECK(fr_gaussian_blur_window(ctx, in, W, H, 2, 1.4, q[0], q[1], q[2], q[3], win) == FRIG_OK);
+            for (int y = 0; y < H; y++)
+                for (int x = 0; x < W; x++)
+                    for (int c = 0; c < 2; c++) {
+                        size_t i = 2 * ((size_t)y * W + x) + c;
+                        int inside = x >= q[0] && x < q[2] && y >= q[1] && y < q[3];
+                        if (inside)
+                            same &= memcmp(&win[i], &out[i], sizeof(float)) == 0;
+                        else
+                            untouched &= win[i] == -7.0f;
+                    }
+        }
+        printf("gaussian blur window: %s, outside %s\n", same ? "bit-identical" : "DIFFERENT",
+               untouched ? "untouched" : "WRITTEN");
+        CHECK(same && untouched);
+    }
+    free(win);
     free(in), free(out);
 }
 

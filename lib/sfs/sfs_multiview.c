@@ -68,6 +68,12 @@ typedef struct photo_texels {
     float *w;       /* per texel: 0 = not seen, else the view cosine */
 } photo_texels;
 
+/* Every texel's data terms: H (6 per texel), g (3), and for the joint albedo Haa (3), HaD (9:
+ * 3 x the stencil's 3) and ga (3). */
+typedef struct texel_eqs {
+    double *H, *g, *Haa, *HaD, *ga;
+} texel_eqs;
+
 typedef struct mv {
     const fr_sfs_mesh *m;
     const fr_sfs_uv *uv;
@@ -81,16 +87,19 @@ typedef struct mv {
     photo_texels *pt;
     double *D;          /* per texel, mm */
     double *D_s;        /* per texel: the displacement the photos were sampled at */
-    double *D_try, *delta, *rhs, *H;  /* H: 6 per texel */
+    double *D_try, *delta, *rhs;
     float *albedo;      /* 3 per texel */
     float *albedo_try;  /* 3 per texel */
-    double *Haa, *HaD, *ga; /* joint albedo: per texel 3, 9 (3 x the stencil's 3) and 3 */
+    texel_eqs eq[2];    /* the texels' equations at D (eq[cur]) and at the tried step */
+    int cur;
     size_t *damped;     /* per texel: its diagonal triplet holding w_anchor + mu */
     const fr_sfs_albedo *ps; /* the first albedo (its observation weights tell the well-seen texels) */
     fr_sfs_expression_grid eg; /* the expression step's shapes at the texels (o->expression_steps > 0) */
     int *eshape, *eoffset, *elist;
     float *edX;
     double *w0;         /* per view: the weights it started with (the expression step's prior) */
+    double *e_texel;         /* per texel: its 3 energy terms (evaluate()) */
+    int threads;
 } mv;
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
@@ -243,21 +252,6 @@ static double obs_scale(const mv *s, const float *I) {
     return s->o->sigma * (m > INTENSITY_FLOOR ? m : INTENSITY_FLOOR);
 }
 
-/* The data energy of texel t over all photos (robust), with displacement D. */
-static double texel_energy(const mv *s, const double *D, const float *albedo, int t) {
-    double e = 0, N[3], S[3];
-    for (int k = 0; k < s->nviews; k++) {
-        const photo_texels *p = &s->pt[k];
-        if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, D, k, t, N, NULL)) continue;
-        fr_sfs_shade_head(&s->views[k], N, S, NULL);
-        double I[3];
-        observed(s, p, D, t, I);
-        double sc = obs_scale(s, p->I + 3 * (size_t)t);
-        for (int c = 0; c < 3; c++) e += p->w[t] * fr_sfs_tukey_rho((albedo[3 * t + c] * S[c] - I[c]) / sc);
-    }
-    return e;
-}
-
 static int curv(const mv *s, int t, int dir, int nb[3]) {
     /* t is the middle: its left/up neighbour links to it and it links right/down */
     const int *link = dir ? s->down : s->right;
@@ -273,37 +267,26 @@ static int curv(const mv *s, int t, int dir, int nb[3]) {
     return 1;
 }
 
-static double energy(const mv *s, const double *D, const float *albedo) {
-    double e = 0;
-    for (int t = 0; t < s->nt; t++) {
-        e += texel_energy(s, D, albedo, t) + s->o->w_anchor * D[t] * D[t];
-        int nb[3];
-        for (int dir = 0; dir < 2; dir++)
-            if (curv(s, t, dir, nb)) {
-                double c = D[nb[0]] - 2 * D[nb[1]] + D[nb[2]];
-                e += s->o->w_smooth * c * c;
-            }
-    }
-    return e;
-}
-
-/* Per texel: the 6 Hessian entries and 3 gradient entries of its data terms (all photos); with
- * the joint albedo, the texel's albedo eliminated (its Schur complement has the same stencil)
- * and its terms kept for the back-substitution. */
-static void texel_normal_equations(const mv *s, int t, double H[6], double g[3]) {
+/* Per texel at displacement D and albedo: the 6 Hessian entries and 3 gradient entries of its
+ * data terms (all photos); with the joint albedo, the texel's albedo eliminated (its Schur
+ * complement has the same stencil) and its terms kept for the back-substitution; and the data
+ * energy (its robust terms summed photo by photo, channel by channel). */
+static double texel_normal_equations(const mv *s, const double *D, const float *albedo, int t, const texel_eqs *eqs) {
+    double *H = eqs->H + 6 * (size_t)t, *g = eqs->g + 3 * (size_t)t, e = 0;
     memset(H, 0, 6 * sizeof *H), memset(g, 0, 3 * sizeof *g);
-    double *Haa = s->Haa + 3 * (size_t)t, *HaD = s->HaD + 9 * (size_t)t, *ga = s->ga + 3 * (size_t)t;
+    double *Haa = eqs->Haa + 3 * (size_t)t, *HaD = eqs->HaD + 9 * (size_t)t, *ga = eqs->ga + 3 * (size_t)t;
     memset(Haa, 0, 3 * sizeof *Haa), memset(HaD, 0, 9 * sizeof *HaD), memset(ga, 0, 3 * sizeof *ga);
     double N[3], dN[3][3], S[3], G[3][3];
     for (int k = 0; k < s->nviews; k++) {
         const photo_texels *p = &s->pt[k];
-        if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, s->D, k, t, N, dN)) continue;
+        if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, D, k, t, N, dN)) continue;
         fr_sfs_shade_head(&s->views[k], N, S, G);
         double I[3];
-        observed(s, p, s->D, t, I);
+        observed(s, p, D, t, I);
         double sc = obs_scale(s, p->I + 3 * (size_t)t);
         for (int c = 0; c < 3; c++) {
-            double a = s->albedo[3 * t + c], r = (a * S[c] - I[c]) / sc, w = p->w[t] * fr_sfs_tukey_w(r);
+            double a = albedo[3 * t + c], r = (a * S[c] - I[c]) / sc, w = p->w[t] * fr_sfs_tukey_w(r);
+            e += p->w[t] * fr_sfs_tukey_rho(r);
             double j[3];
             for (int q = 0; q < 3; q++) j[q] = a / sc * (G[c][0] * dN[q][0] + G[c][1] * dN[q][1] + G[c][2] * dN[q][2]);
             j[0] -= p->dI[3 * (size_t)t + c] / sc;
@@ -315,7 +298,8 @@ static void texel_normal_equations(const mv *s, int t, double H[6], double g[3])
             for (int q = 0; q < 3; q++) HaD[3 * c + q] += w * ja * j[q];
         }
     }
-    if (!s->o->joint_albedo) return;
+    if (!s->o->joint_albedo)
+        return e;
     for (int c = 0; c < 3; c++) {
         if (!(Haa[c] > 0)) continue;
         Haa[c] *= 1 + 1e-6;
@@ -324,6 +308,31 @@ static void texel_normal_equations(const mv *s, int t, double H[6], double g[3])
         H[3] -= h[1] * h[1] * inv, H[4] -= h[2] * h[1] * inv, H[5] -= h[2] * h[2] * inv;
         for (int q = 0; q < 3; q++) g[q] -= h[q] * ga[c] * inv;
     }
+    return e;
+}
+
+/* The energy at (D, albedo) and, into q, every texel's equations there (one pass: an accepted
+ * step's equations are the next step's): each texel's terms in parallel (3 per texel: data +
+ * anchor, the two curvatures, 0 where a texel has none), summed in texel order (the same value
+ * whatever the thread count). */
+static double evaluate(const mv *s, const double *D, const float *albedo, const texel_eqs *q) {
+    double *et = s->e_texel;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(s->threads)
+    for (int t = 0; t < s->nt; t++) {
+        et[3 * (size_t)t] = texel_normal_equations(s, D, albedo, t, q) + s->o->w_anchor * D[t] * D[t];
+        int nb[3];
+        for (int dir = 0; dir < 2; dir++) {
+            et[3 * (size_t)t + 1 + dir] = 0;
+            if (curv(s, t, dir, nb)) {
+                double c = D[nb[0]] - 2 * D[nb[1]] + D[nb[2]];
+                et[3 * (size_t)t + 1 + dir] = s->o->w_smooth * c * c;
+            }
+        }
+    }
+    double e = 0;
+    for (size_t k = 0; k < 3 * (size_t)s->nt; k++)
+        e += et[k];
+    return e;
 }
 
 /* The albedo step that goes with the displacement step (back-substitution). */
@@ -331,10 +340,11 @@ static void albedo_step(mv *s, const double *dD) {
     for (int t = 0; t < s->nt; t++) {
         int r = s->right[t], d = s->down[t];
         for (int c = 0; c < 3; c++) {
-            double v = s->albedo[3 * t + c], Haa = s->Haa[3 * (size_t)t + c];
+            const texel_eqs *q = &s->eq[s->cur];
+            double v = s->albedo[3 * t + c], Haa = q->Haa[3 * (size_t)t + c];
             if (r >= 0 && d >= 0 && Haa > 0) {
-                const double *h = s->HaD + 9 * (size_t)t + 3 * c;
-                v -= (s->ga[3 * (size_t)t + c] + h[0] * dD[t] + h[1] * dD[r] + h[2] * dD[d]) / Haa;
+                const double *h = q->HaD + 9 * (size_t)t + 3 * c;
+                v -= (q->ga[3 * (size_t)t + c] + h[0] * dD[t] + h[1] * dD[r] + h[2] * dD[d]) / Haa;
             }
             s->albedo_try[3 * t + c] = (float)(v > 0 ? v : 0);
         }
@@ -345,23 +355,19 @@ static frig_status add(frig_ctx *ctx, fr_triplets *t, int a, int b, double v) {
     return a >= b ? fr_triplets_add(ctx, t, a, b, v) : fr_triplets_add(ctx, t, b, a, v);
 }
 
-static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr, int threads) {
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
-    for (int t = 0; t < s->nt; t++) {
-        double g[3];
-        texel_normal_equations(s, t, s->H + 6 * (size_t)t, g);
-        /* the gradient goes to three texels: keep it per texel (3 slots) in rhs scratch */
-        for (int q = 0; q < 3; q++) s->delta[3 * (size_t)t + q] = g[q];
-    }
+/* The system at D from the texels' equations there (eq[cur], evaluate()) and the priors. */
+static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr) {
+    const texel_eqs *eq = &s->eq[s->cur];
     fr_triplets_clear(tr);
     memset(s->rhs, 0, sizeof(double) * (size_t)s->nt);
     frig_status st = FRIG_OK;
     for (int t = 0; t < s->nt && !st; t++) {
-        const double *H = s->H + 6 * (size_t)t;
+        const double *H = eq->H + 6 * (size_t)t;
         int r = s->right[t], d = s->down[t];
         if (r >= 0 && d >= 0) {
             int u[3] = {t, r, d};
-            for (int q = 0; q < 3; q++) s->rhs[u[q]] -= s->delta[3 * (size_t)t + q];
+            for (int q = 0; q < 3; q++)
+                s->rhs[u[q]] -= eq->g[3 * (size_t)t + q];
             st = add(ctx, tr, t, t, H[0]);
             if (!st) st = add(ctx, tr, r, t, H[1]);
             if (!st) st = add(ctx, tr, d, t, H[2]);
@@ -564,7 +570,9 @@ static int cmp_float(const void *x, const void *y) {
 static void mv_free(mv *s) {
     for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w), free(s->pt[k].dI);
     free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
-    free(s->H), free(s->albedo), free(s->albedo_try), free(s->Haa), free(s->HaD), free(s->ga), free(s->damped);
+    for (int b = 0; b < 2; b++)
+        free(s->eq[b].H), free(s->eq[b].g), free(s->eq[b].Haa), free(s->eq[b].HaD), free(s->eq[b].ga);
+    free(s->albedo), free(s->albedo_try), free(s->damped), free(s->e_texel);
     free(s->eshape), free(s->eoffset), free(s->elist), free(s->edX), free(s->w0);
 }
 
@@ -737,12 +745,19 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     s.pt = calloc((size_t)nviews + 1, sizeof *s.pt);
     s.right = malloc(sizeof(int) * nt), s.down = malloc(sizeof(int) * nt), s.sign = malloc(nt);
     s.D = calloc(nt, sizeof(double)), s.D_s = calloc(nt, sizeof(double)), s.D_try = malloc(sizeof(double) * nt), s.delta = malloc(sizeof(double) * 3 * nt);
-    s.rhs = malloc(sizeof(double) * nt), s.H = malloc(sizeof(double) * 6 * nt), s.albedo = malloc(sizeof(float) * 3 * nt);
-    s.albedo_try = malloc(sizeof(float) * 3 * nt), s.Haa = malloc(sizeof(double) * 3 * nt);
-    s.HaD = malloc(sizeof(double) * 9 * nt), s.ga = malloc(sizeof(double) * 3 * nt);
-    s.damped = malloc(sizeof(size_t) * nt);
-    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs || !s.H || !s.albedo ||
-                         !s.albedo_try || !s.Haa || !s.HaD || !s.ga || !s.damped
+    s.rhs = malloc(sizeof(double) * nt), s.albedo = malloc(sizeof(float) * 3 * nt);
+    s.albedo_try = malloc(sizeof(float) * 3 * nt);
+    int eq_ok = 1;
+    for (int b = 0; b < 2; b++) {
+        texel_eqs *q = &s.eq[b];
+        q->H = malloc(sizeof(double) * 6 * nt), q->g = malloc(sizeof(double) * 3 * nt);
+        q->Haa = malloc(sizeof(double) * 3 * nt), q->HaD = malloc(sizeof(double) * 9 * nt);
+        q->ga = malloc(sizeof(double) * 3 * nt);
+        eq_ok &= q->H && q->g && q->Haa && q->HaD && q->ga;
+    }
+    s.damped = malloc(sizeof(size_t) * nt), s.e_texel = malloc(sizeof(double) * 3 * nt), s.threads = threads;
+    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs ||
+                             !eq_ok || !s.albedo || !s.albedo_try || !s.damped || !s.e_texel
                          ? fr_nomem(ctx, "the multi-view solve")
                          : FRIG_OK;
     for (int k = 0; k < nviews && !st; k++) {
@@ -788,12 +803,13 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
             if (use[k]) photo_sample(&s, k);
         memcpy(s.D_s, s.D, sizeof(double) * (size_t)s.nt);
         update_albedo(&s, threads);
-        double e = energy(&s, s.D, s.albedo), mu = -1;
+        s.cur = 0;
+        double e = evaluate(&s, s.D, s.albedo, &s.eq[0]), mu = -1;
         int assembled = 0; /* tr and rhs hold the equations at the current D (albedo, lighting) */
         for (int it = 0; it < o->iterations && !st; it++) {
             for (int tries = 0; tries < 5 && !st; tries++) {
                 if (!assembled) {
-                    st = assemble(ctx, &s, 0.0, &tr, threads);
+                    st = assemble(ctx, &s, 0.0, &tr);
                     assembled = 1;
                 }
                 if (mu < 0 && !st) {
@@ -811,8 +827,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
                     s.D_try[t] = d > o->max_mm ? o->max_mm : d < -o->max_mm ? -o->max_mm : d;
                 }
                 if (o->joint_albedo) albedo_step(&s, s.delta);
-                double e2 = energy(&s, s.D_try, o->joint_albedo ? s.albedo_try : s.albedo);
+                double e2 = evaluate(&s, s.D_try, o->joint_albedo ? s.albedo_try : s.albedo, &s.eq[1 - s.cur]);
                 if (e2 < e) {
+                    s.cur = 1 - s.cur; /* the tried step's equations are those at the new D */
                     memcpy(s.D, s.D_try, sizeof(double) * (size_t)s.nt);
                     if (o->joint_albedo) memcpy(s.albedo, s.albedo_try, sizeof(float) * 3 * (size_t)s.nt);
                     assembled = 0;

@@ -76,6 +76,7 @@ typedef struct level {
     int32_t *fpix;   /* their index */
     double *fq;      /* 3 per face cell: the mean X - t of its face pixels at the drawn pose */
     int nt;          /* template cells (mostly face, mostly surrounded by face) */
+    int tbox[4];     /* their bounding box (x0, y0, x1, y1: half-open) */
     int32_t *tpix, *tface;
     double *tB;     /* NCH per template cell: the blurred basis */
     double *tP;     /* 3 per template cell: the blurred prediction */
@@ -156,6 +157,16 @@ static void drawn_point(const fr_sfs_mesh *m, const fr_sfs_view *v, size_t i, do
         }
 }
 
+/* The bounding box (x0, y0, x1, y1: half-open) of n cells of a grid w wide. */
+static void cell_box(const int32_t *cells, int n, int w, int box[4]) {
+    box[0] = box[1] = n ? INT32_MAX : 0, box[2] = box[3] = 0;
+    for (int j = 0; j < n; j++) {
+        int x = cells[j] % w, y = cells[j] / w;
+        box[0] = x < box[0] ? x : box[0], box[1] = y < box[1] ? y : box[1];
+        box[2] = x + 1 > box[2] ? x + 1 : box[2], box[3] = y + 1 > box[3] ? y + 1 : box[3];
+    }
+}
+
 /* The reduced grid of the level (factor L->d): photo, face share, prediction, the face cells'
  * points; then the blurs and the template. */
 static frig_status build_grid(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_view *v, const float *P,
@@ -197,8 +208,11 @@ static frig_status build_grid(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_
                 L->fq[3 * (size_t)L->nf + k] = X[k] / nm - v->t[k];
             L->nf++;
         }
-    frig_status s = fr_gaussian_blur(ctx, L->PM, w, h, NCH, L->sigma_r, L->PMb);
-    if (!s) s = fr_gaussian_blur(ctx, L->Mc, w, h, 1, L->sigma_r, L->Mb);
+    /* the blurred face share is read at face cells only, the blurred prediction and (in
+     * photo_terms) the blurred warped photo at template cells only: blurred in their boxes */
+    int fb[4], *tb = L->tbox;
+    cell_box(L->fpix, L->nf, w, fb);
+    frig_status s = fr_gaussian_blur_window(ctx, L->Mc, w, h, 1, L->sigma_r, fb[0], fb[1], fb[2], fb[3], L->Mb);
     if (!s) s = fr_gaussian_blur(ctx, L->I, w, h, 3, L->sigma_r, L->Ib);
     if (s) return s;
     L->nt = 0;
@@ -206,9 +220,16 @@ static frig_status build_grid(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_
         size_t c = (size_t)L->fpix[f];
         if (!(L->Mc[c] > 0.5f) || !(L->Mb[c] > MIN_MASK)) continue;
         L->tpix[L->nt] = (int32_t)c, L->tface[L->nt] = f;
-        for (int k = 0; k < NCH; k++)
-            L->tB[NCH * (size_t)L->nt + k] = L->PMb[NCH * c + k] / L->Mb[c];
         L->nt++;
+    }
+    cell_box(L->tpix, L->nt, w, tb);
+    s = fr_gaussian_blur_window(ctx, L->PM, w, h, NCH, L->sigma_r, tb[0], tb[1], tb[2], tb[3], L->PMb);
+    if (s)
+        return s;
+    for (int j = 0; j < L->nt; j++) {
+        size_t c = (size_t)L->tpix[j];
+        for (int k = 0; k < NCH; k++)
+            L->tB[NCH * (size_t)j + k] = L->PMb[NCH * c + k] / L->Mb[c];
     }
     return FRIG_OK;
 }
@@ -343,7 +364,8 @@ static frig_status photo_terms(frig_ctx *ctx, level *L, const double A[9], const
         for (int c = 0; c < 3; c++)
             L->Iw[3 * c0 + c] = (float)(L->Mc[c0] * I[c]);
     }
-    frig_status s = fr_gaussian_blur(ctx, L->Iw, L->w, L->h, 3, L->sigma_r, L->Wb);
+    frig_status s = fr_gaussian_blur_window(ctx, L->Iw, L->w, L->h, 3, L->sigma_r, L->tbox[0], L->tbox[1], L->tbox[2],
+                                            L->tbox[3], L->Wb);
     if (s) return s;
     double e = 0;
     for (int j = 0; j < L->nt; j++) {

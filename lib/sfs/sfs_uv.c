@@ -115,19 +115,6 @@ int fr_sfs_texture_sample(const float *tex, const float *weight, int T, int dim,
     return 1;
 }
 
-void fr_sfs_bilinear(const float *img, int w, int h, const double xy[2], double out[3]) {
-    int x0 = (int)floor(xy[0]), y0 = (int)floor(xy[1]);
-    double fx = xy[0] - x0, fy = xy[1] - y0;
-    out[0] = out[1] = out[2] = 0;
-    for (int j = 0; j < 2; j++)
-        for (int i = 0; i < 2; i++) {
-            int xx = x0 + i < 0 ? 0 : x0 + i >= w ? w - 1 : x0 + i;
-            int yy = y0 + j < 0 ? 0 : y0 + j >= h ? h - 1 : y0 + j;
-            double wt = (i ? fx : 1 - fx) * (j ? fy : 1 - fy);
-            for (int c = 0; c < 3; c++) out[c] += wt * img[3 * ((size_t)yy * w + xx) + c];
-        }
-}
-
 void fr_sfs_image_gradient(const float *img, int w, int h, const double xy[2], double gx[3], double gy[3]) {
     double a[3], b[3], xa[2] = {xy[0] + 1, xy[1]}, xb[2] = {xy[0] - 1, xy[1]};
     fr_sfs_bilinear(img, w, h, xa, a), fr_sfs_bilinear(img, w, h, xb, b);

@@ -15,6 +15,13 @@ struct fr_cholesky {
     cholmod_sparse *A;  /* least squares only: the m x n design matrix */
     cholmod_factor *L;
     int n;
+    /* fr_cholesky_create's triplets (positions, in order) and where each lands in M->x, so
+     * that a refactorization with the same triplets writes M's values directly, summing
+     * duplicates in triplet order as cholmod_triplet_to_sparse does (the same bits) */
+    size_t tcount;
+    int *ti, *tj;
+    size_t *slot;
+    unsigned char *first; /* 1: the first triplet of its slot (assigned; later ones added) */
 };
 
 frig_status fr_triplets_init(frig_ctx *ctx, fr_triplets *t, int rows, int cols, size_t capacity) {
@@ -99,6 +106,49 @@ static frig_status factor_numeric(frig_ctx *ctx, fr_cholesky *ch) {
     return FRIG_OK;
 }
 
+/* The triplet -> value map of a lower (stype -1) M built from t; left empty (the CHOLMOD path
+ * then) when memory is short or M is not sorted and packed. Entries above the diagonal count as
+ * their transposes, as cholmod_triplet_to_sparse stores them. */
+static void build_slot_map(fr_cholesky *ch, const fr_triplets *t) {
+    cholmod_sparse *M = ch->M;
+    if (!M->sorted || !M->packed || t->count == 0)
+        return;
+    const int *Mp = M->p, *Mi = M->i;
+    size_t nnz = (size_t)Mp[M->ncol];
+    ch->ti = malloc(sizeof(int) * t->count), ch->tj = malloc(sizeof(int) * t->count);
+    ch->slot = malloc(sizeof(size_t) * t->count), ch->first = malloc(t->count);
+    unsigned char *seen = calloc(nnz + 1, 1);
+    int ok = ch->ti && ch->tj && ch->slot && ch->first && seen;
+    for (size_t k = 0; k < t->count && ok; k++) {
+        int r = t->i[k] > t->j[k] ? t->i[k] : t->j[k], c = t->i[k] > t->j[k] ? t->j[k] : t->i[k];
+        int lo = Mp[c], hi = Mp[c + 1] - 1;
+        while (lo < hi) { /* the first row index >= r in column c */
+            int mid = lo + (hi - lo) / 2;
+            if (Mi[mid] < r)
+                lo = mid + 1;
+            else
+                hi = mid;
+        }
+        if (lo > hi || Mi[lo] != r)
+            ok = 0;
+        else
+            ch->slot[k] = (size_t)lo, ch->first[k] = !seen[lo], seen[lo] = 1;
+    }
+    free(seen);
+    if (ok) {
+        memcpy(ch->ti, t->i, sizeof(int) * t->count), memcpy(ch->tj, t->j, sizeof(int) * t->count);
+        ch->tcount = t->count;
+        return;
+    }
+    free(ch->ti), free(ch->tj), free(ch->slot), free(ch->first);
+    ch->ti = ch->tj = NULL, ch->slot = NULL, ch->first = NULL;
+}
+
+static int same_triplets(const fr_cholesky *ch, const fr_triplets *t) {
+    return ch->tcount && t->count == ch->tcount && !memcmp(t->i, ch->ti, sizeof(int) * t->count) &&
+           !memcmp(t->j, ch->tj, sizeof(int) * t->count);
+}
+
 static frig_status analyze_and_factor(frig_ctx *ctx, fr_cholesky *ch) {
     ch->L = cholmod_analyze(ch->M, &ch->cc);
     if (!ch->L) return fr_error(ctx, FRIG_ERR_NO_MEMORY, "sparse analysis of a %d x %d system failed", ch->n, ch->n);
@@ -117,6 +167,7 @@ frig_status fr_cholesky_create(frig_ctx *ctx, const fr_triplets *lower, fr_chole
         fr_cholesky_free(ch);
         return fr_nomem(ctx, "a sparse matrix");
     }
+    build_slot_map(ch, lower);
     frig_status s = analyze_and_factor(ctx, ch);
     if (s) {
         fr_cholesky_free(ch);
@@ -169,7 +220,17 @@ frig_status fr_cholesky_refactor(frig_ctx *ctx, fr_cholesky *ch, const fr_triple
         M = normal_matrix(A, &ch->cc);
         cholmod_free_sparse(&ch->A, &ch->cc);
         ch->A = A;
+    } else if (same_triplets(ch, t)) {
+        double *x = ch->M->x;
+        for (size_t k = 0; k < t->count; k++) {
+            if (ch->first[k])
+                x[ch->slot[k]] = t->x[k];
+            else
+                x[ch->slot[k]] += t->x[k];
+        }
+        return factor_numeric(ctx, ch);
     } else {
+        ch->tcount = 0; /* other triplets: the map is for the first ones only */
         M = to_sparse(t, -1, &ch->cc);
     }
     if (!M) return fr_nomem(ctx, "a sparse matrix");
@@ -284,5 +345,6 @@ void fr_cholesky_free(fr_cholesky *ch) {
     cholmod_free_sparse(&ch->M, &ch->cc);
     cholmod_free_sparse(&ch->A, &ch->cc);
     cholmod_finish(&ch->cc);
+    free(ch->ti), free(ch->tj), free(ch->slot), free(ch->first);
     free(ch);
 }
