@@ -158,13 +158,9 @@ static void photo_sample(mv *s, int k) {
         for (int c = 0; c < 3; c++) p->I[3 * (size_t)t + c] = (float)smp[c], p->dI[3 * (size_t)t + c] = 0;
         if (s->o->w_stereo > 0) {
             /* the image's gradient along the texel's projected path as D changes */
-            double J[6], gx[3], gy[3], a[3], b[3], xa[2] = {xy[0] + 1, xy[1]}, xb[2] = {xy[0] - 1, xy[1]};
+            double J[6], gx[3], gy[3];
             fr_camera_project_jacobian(&v->cam, X, J);
-            fr_sfs_bilinear(v->I, v->w, v->h, xa, a), fr_sfs_bilinear(v->I, v->w, v->h, xb, b);
-            for (int c = 0; c < 3; c++) gx[c] = 0.5 * (a[c] - b[c]);
-            xa[0] = xb[0] = xy[0], xa[1] = xy[1] + 1, xb[1] = xy[1] - 1;
-            fr_sfs_bilinear(v->I, v->w, v->h, xa, a), fr_sfs_bilinear(v->I, v->w, v->h, xb, b);
-            for (int c = 0; c < 3; c++) gy[c] = 0.5 * (a[c] - b[c]);
+            fr_sfs_image_gradient(v->I, v->w, v->h, xy, gx, gy);
             double du = MM * (J[0] * nc[0] + J[1] * nc[1] + J[2] * nc[2]);
             double dv = MM * (J[3] * nc[0] + J[4] * nc[1] + J[5] * nc[2]);
             for (int c = 0; c < 3; c++) p->dI[3 * (size_t)t + c] = (float)(s->o->w_stereo * (gx[c] * du + gy[c] * dv));
@@ -473,12 +469,7 @@ static double pose_terms(const mv *s, int k, const double R[9], const double tv[
         double sc = s->o->sigma * fmax((I[0] + I[1] + I[2]) / 3.0, INTENSITY_FLOOR);
         double gx[3], gy[3], J[6];
         if (H) {
-            double a[3], b[3], xa[2] = {xy[0] + 1, xy[1]}, xb[2] = {xy[0] - 1, xy[1]};
-            fr_sfs_bilinear(v->I, v->w, v->h, xa, a), fr_sfs_bilinear(v->I, v->w, v->h, xb, b);
-            for (int c = 0; c < 3; c++) gx[c] = 0.5 * (a[c] - b[c]);
-            xa[0] = xb[0] = xy[0], xa[1] = xy[1] + 1, xb[1] = xy[1] - 1;
-            fr_sfs_bilinear(v->I, v->w, v->h, xa, a), fr_sfs_bilinear(v->I, v->w, v->h, xb, b);
-            for (int c = 0; c < 3; c++) gy[c] = 0.5 * (a[c] - b[c]);
+            fr_sfs_image_gradient(v->I, v->w, v->h, xy, gx, gy);
             fr_camera_project_jacobian(&v->cam, Xc, J);
         }
         for (int c = 0; c < 3; c++) {

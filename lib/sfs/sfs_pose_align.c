@@ -376,7 +376,7 @@ static frig_status photo_terms(frig_ctx *ctx, level *L, const double A[9], const
         for (int c = 0; c < 3; c++)
             e += L->w_photo * huber_rho(r[c]);
         if (!H) continue;
-        double q[3], X[3], xy[2], J[6], a[3], b[3];
+        double q[3], X[3], xy[2], J[6];
         fr_mat3_apply(A, L->fq + 3 * (size_t)L->tface[j], q);
         for (int c = 0; c < 3; c++)
             X[c] = q[c] + tc[c];
@@ -384,14 +384,8 @@ static frig_status photo_terms(frig_ctx *ctx, level *L, const double A[9], const
         fr_camera_project_jacobian(&L->cam, X, J);
         for (int d = 0; d < 3; d++)
             q[d] = X[d] - L->pc[d];
-        double gx[3], gy[3], xa[2] = {xy[0] + 1, xy[1]}, xb[2] = {xy[0] - 1, xy[1]};
-        fr_sfs_bilinear(L->Ib, L->w, L->h, xa, a), fr_sfs_bilinear(L->Ib, L->w, L->h, xb, b);
-        for (int c = 0; c < 3; c++)
-            gx[c] = 0.5 * (a[c] - b[c]);
-        xa[0] = xb[0] = xy[0], xa[1] = xy[1] + 1, xb[1] = xy[1] - 1;
-        fr_sfs_bilinear(L->Ib, L->w, L->h, xa, a), fr_sfs_bilinear(L->Ib, L->w, L->h, xb, b);
-        for (int c = 0; c < 3; c++)
-            gy[c] = 0.5 * (a[c] - b[c]);
+        double gx[3], gy[3];
+        fr_sfs_image_gradient(L->Ib, L->w, L->h, xy, gx, gy);
         for (int c = 0; c < 3; c++) {
             double u[3], jr[6];
             for (int d = 0; d < 3; d++)
