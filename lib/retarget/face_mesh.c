@@ -41,3 +41,21 @@ void fr_rt_mesh_free(fr_rt_mesh *m) {
     m->rim = NULL;
     m->shape = NULL;
 }
+
+#define BLEND_BLOCK 512
+
+void fr_rt_blend(size_t n, const float *base, int K, const double *w, const float *deltas, size_t stride,
+                 const int *shape, float *out) {
+    double acc[BLEND_BLOCK];
+    for (size_t q0 = 0; q0 < n; q0 += BLEND_BLOCK) {
+        size_t len = n - q0 < BLEND_BLOCK ? n - q0 : BLEND_BLOCK;
+        for (size_t q = 0; q < len; q++) acc[q] = base[q0 + q];
+        for (int a = 0; a < K; a++) {
+            if (w[a] == 0) continue;
+            const float *d = deltas + stride * (size_t)(shape ? shape[a] : a) + q0;
+            double wa = w[a];
+            for (size_t q = 0; q < len; q++) acc[q] += wa * d[q];
+        }
+        for (size_t q = 0; q < len; q++) out[q0 + q] = (float)acc[q];
+    }
+}

@@ -204,12 +204,7 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
             fr_rt_photo *p = &photos[i];
             per_photo *q = &pp[i];
             q->rows = 0;
-            for (size_t c = 0; c < nf3; c++) {
-                double v = rig->neutral[c];
-                for (int a = 0; a < K; a++)
-                    if (p->w[a] != 0) v += p->w[a] * rig->deltas[nv3 * fit_shape[a] + c];
-                x[c] = (float)v;
-            }
+            fr_rt_blend(nf3, rig->neutral, K, p->w, rig->deltas, nv3, fit_shape, x);
             fr_tri_tree *tree = trees[tid];
             fr_tri_tree_refit(tree, x);
             int surface = 0;

@@ -78,6 +78,12 @@ typedef struct fr_rt_photo {
 frig_status fr_rt_mesh_make(frig_ctx *ctx, int nv, const int32_t *tris, int nt, const float *xyz, fr_rt_mesh *m);
 void fr_rt_mesh_free(fr_rt_mesh *m);
 
+/* out = base + sum_a w[a] deltas_a over n floats, in double, shape a's deltas at deltas + stride * a
+ * (stride * shape[a] when shape is not NULL), the shapes of weight 0 skipped; summed per value in
+ * the shapes' order, in blocks so that each shape's deltas are read in a row. */
+void fr_rt_blend(size_t n, const float *base, int K, const double *w, const float *deltas, size_t stride,
+                 const int *shape, float *out);
+
 /* Thin the photo's cloud (p->pick): one point per spacing-wide cube, points below the
  * confidence bound or not finite left out. */
 frig_status fr_rt_thin_cloud(frig_ctx *ctx, const fr_rt_settings *s, fr_rt_photo *p);

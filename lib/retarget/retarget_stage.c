@@ -84,13 +84,7 @@ static void gather_fitting(state *st) {
 
 /* B (x) w_i on the face. */
 static void reconstruction(const state *st, const double *w, float *out) {
-    size_t n3 = face3(st);
-    for (size_t q = 0; q < n3; q++) {
-        double x = st->N[q];
-        for (int a = 0; a < st->K; a++)
-            if (w[a] != 0) x += w[a] * st->Dfit[n3 * a + q];
-        out[q] = (float)x;
-    }
+    fr_rt_blend(face3(st), st->N, st->K, w, st->Dfit, face3(st), NULL, out);
 }
 
 static frig_status correspond_all(frig_ctx *ctx, state *st) {
