@@ -1,11 +1,15 @@
 /* Sparse Cholesky: the 2D Poisson problem against its known solution (second-order
  * convergence), refactorization with new values, many right-hand sides, least squares
- * against the dense solution, and a non-SPD matrix giving a status. */
+ * against the dense solution, and a non-SPD matrix giving a status; the multifrontal factor
+ * (sparse/frontal.h) against CHOLMOD's on a grid with diagonals, refactored, and an indefinite
+ * matrix giving a status. */
 #include <stdlib.h>
 #include <string.h>
 
 #include "core/context.h"
 #include "linalg/linalg.h"
+#include "sparse/csr.h"
+#include "sparse/frontal.h"
 #include "sparse/sparse.h"
 #include "testing.h"
 
@@ -152,11 +156,89 @@ static void test_refactor_map(frig_ctx *ctx) {
     fr_triplets_free(&t1), fr_triplets_free(&t2), fr_triplets_free(&t3);
 }
 
+/* An n x n grid with its diagonals (9-point pattern), values from 'scale'; diagonally dominant
+ * when shift > 0, indefinite when shift is very negative. */
+static void grid9(frig_ctx *ctx, int n, double scale, double shift, fr_csr *A) {
+    fr_triplets t;
+    fr_triplets_init(ctx, &t, n * n, n * n, (size_t)n * n * 9);
+    for (int y = 0; y < n; y++)
+        for (int x = 0; x < n; x++) {
+            int k = y * n + x;
+            double sum = 0;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    int xx = x + dx, yy = y + dy;
+                    if ((!dx && !dy) || xx < 0 || yy < 0 || xx >= n || yy >= n) continue;
+                    int j = yy * n + xx;
+                    double v = -scale * (1 + 0.3 * sin(0.7 * (k < j ? k : j) + 1.1 * (k < j ? j : k)));
+                    fr_triplets_add(ctx, &t, k, j, v);
+                    sum += fabs(v);
+                }
+            fr_triplets_add(ctx, &t, k, k, sum + shift);
+        }
+    fr_csr_from_triplets(ctx, &t, A);
+    fr_triplets_free(&t);
+}
+
+/* The values of A's entries with column <= row, in CSR order. */
+static double *lower_values(const fr_csr *A) {
+    double *v = malloc(sizeof(double) * ((size_t)A->start[A->rows] + 1));
+    size_t q = 0;
+    for (int r = 0; r < A->rows; r++)
+        for (int k = A->start[r]; k < A->start[r + 1]; k++)
+            if (A->col[k] <= r) v[q++] = A->x[k];
+    return v;
+}
+
+static void test_frontal(frig_ctx *ctx) {
+    enum { G = 37, N = G * G };
+    fr_csr A, B, C;
+    grid9(ctx, G, 1.0, 0.05, &A);
+    grid9(ctx, G, 2.5, 1e-3, &B);
+    grid9(ctx, G, 1.0, -50, &C);
+    fr_frontal *an = NULL;
+    fr_frontal_factor *f = NULL;
+    CHECK(fr_frontal_create(ctx, &A, &an) == FRIG_OK);
+    CHECK(an && fr_frontal_factor_create(ctx, an, &f) == FRIG_OK);
+    double *b = malloc(sizeof(double) * 2 * N), *x = malloc(sizeof(double) * 2 * N), *y = malloc(sizeof(double) * 2 * N);
+    for (int k = 0; k < 2 * N; k++) b[k] = cos(0.37 * k) + (k >= N);
+    double worst = 0;
+    const fr_csr *mats[2] = {&A, &B};
+    for (int m = 0; m < 2 && f; m++) { /* factor A, then refactor with B's values */
+        double *v = lower_values(mats[m]);
+        fr_cholesky *ch = NULL;
+        CHECK(fr_frontal_factorize(ctx, f, v) == FRIG_OK);
+        CHECK(fr_frontal_solve(ctx, f, 2, b, x) == FRIG_OK);
+        CHECK(fr_cholesky_create_csr(ctx, mats[m], 1, &ch) == FRIG_OK);
+        CHECK(ch && fr_cholesky_solve(ctx, ch, 2, b, y) == FRIG_OK);
+        double scale = 0;
+        for (int k = 0; k < 2 * N; k++) scale = fmax(scale, fabs(y[k]));
+        for (int k = 0; k < 2 * N; k++) worst = fmax(worst, fabs(x[k] - y[k]) / scale);
+        memcpy(x, b, sizeof(double) * N); /* the same arrays in and out */
+        CHECK(fr_frontal_solve(ctx, f, 1, x, x) == FRIG_OK);
+        for (int k = 0; k < N; k++) worst = fmax(worst, fabs(x[k] - y[k]) / scale);
+        fr_cholesky_free(ch);
+        free(v);
+    }
+    double entries = 0, flops = 0;
+    if (an) fr_frontal_stats(an, &entries, &flops);
+    printf("multifrontal: %.0f factor entries, %.3g flops; largest difference from CHOLMOD %.3g (relative)\n", entries,
+           flops, worst);
+    CHECK(worst < 1e-10);
+    double *v = lower_values(&C);
+    CHECK(f && fr_frontal_factorize(ctx, f, v) == FRIG_ERR_NUMERIC);
+    free(v), free(b), free(x), free(y);
+    fr_frontal_factor_free(f);
+    fr_frontal_free(an);
+    fr_csr_free(&A), fr_csr_free(&B), fr_csr_free(&C);
+}
+
 int main(void) {
     frig_ctx *ctx = frig_ctx_create();
     test_poisson(ctx);
     test_lsq(ctx);
     test_refactor_map(ctx);
+    test_frontal(ctx);
     frig_ctx_free(ctx);
     return test_result("test_sparse");
 }
