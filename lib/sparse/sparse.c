@@ -22,11 +22,6 @@ struct fr_cholesky {
     int *ti, *tj;
     size_t *slot;
     unsigned char *first; /* 1: the first triplet of its slot (assigned; later ones added) */
-    /* fr_cholesky_create_csr's simplicial factor: M holds the permuted matrix, analyzed in its
-     * natural order, so that a refactorization does not permute (transpose) it again; perm[k] is
-     * the input's index of M's row k and vmap[e] the slot of input value e in M->x */
-    int *perm;
-    size_t *vmap;
 };
 
 frig_status fr_triplets_init(frig_ctx *ctx, fr_triplets *t, int rows, int cols, size_t capacity) {
@@ -259,16 +254,7 @@ frig_status fr_cholesky_clone(frig_ctx *ctx, const fr_cholesky *src, fr_cholesky
     ch->M = cholmod_copy_sparse((cholmod_sparse *)src->M, &ch->cc);
     ch->A = src->A ? cholmod_copy_sparse((cholmod_sparse *)src->A, &ch->cc) : NULL;
     ch->L = cholmod_copy_factor((cholmod_factor *)src->L, &ch->cc);
-    size_t nv = src->vmap ? fr_cholesky_value_count(src) : 0;
-    if (src->perm) {
-        ch->perm = malloc(sizeof(int) * ((size_t)src->n + 1));
-        ch->vmap = malloc(sizeof(size_t) * (nv + 1));
-        if (ch->perm && ch->vmap) {
-            memcpy(ch->perm, src->perm, sizeof(int) * (size_t)src->n);
-            memcpy(ch->vmap, src->vmap, sizeof(size_t) * nv);
-        }
-    }
-    if (!ch->M || !ch->L || (src->A && !ch->A) || (src->perm && (!ch->perm || !ch->vmap))) {
+    if (!ch->M || !ch->L || (src->A && !ch->A)) {
         fr_cholesky_free(ch);
         return fr_nomem(ctx, "a copy of a sparse factorization");
     }
@@ -277,26 +263,13 @@ frig_status fr_cholesky_clone(frig_ctx *ctx, const fr_cholesky *src, fr_cholesky
 }
 
 frig_status fr_cholesky_solve(frig_ctx *ctx, fr_cholesky *ch, int nrhs, const double *B, double *X) {
-    size_t n = (size_t)ch->n;
-    cholmod_dense *b = cholmod_allocate_dense(n, (size_t)nrhs, n, CHOLMOD_REAL, &ch->cc);
+    cholmod_dense *b = cholmod_allocate_dense((size_t)ch->n, (size_t)nrhs, (size_t)ch->n, CHOLMOD_REAL, &ch->cc);
     if (!b) return fr_nomem(ctx, "a right-hand side");
-    double *bx = b->x;
-    if (ch->perm) {
-        for (size_t c = 0; c < (size_t)nrhs; c++)
-            for (size_t k = 0; k < n; k++) bx[c * n + k] = B[c * n + (size_t)ch->perm[k]];
-    } else {
-        memcpy(bx, B, sizeof(double) * n * (size_t)nrhs);
-    }
+    memcpy(b->x, B, sizeof(double) * (size_t)ch->n * (size_t)nrhs);
     cholmod_dense *x = cholmod_solve(CHOLMOD_A, ch->L, b, &ch->cc);
     cholmod_free_dense(&b, &ch->cc);
     if (!x) return fr_error(ctx, FRIG_ERR_NUMERIC, "sparse solve failed (CHOLMOD status %d)", ch->cc.status);
-    const double *xx = x->x;
-    if (ch->perm) {
-        for (size_t c = 0; c < (size_t)nrhs; c++)
-            for (size_t k = 0; k < n; k++) X[c * n + (size_t)ch->perm[k]] = xx[c * n + k];
-    } else {
-        memcpy(X, xx, sizeof(double) * n * (size_t)nrhs);
-    }
+    memcpy(X, x->x, sizeof(double) * (size_t)ch->n * (size_t)nrhs);
     cholmod_free_dense(&x, &ch->cc);
     return FRIG_OK;
 }
@@ -320,92 +293,6 @@ frig_status fr_cholesky_solve_lsq(frig_ctx *ctx, fr_cholesky *ch, int nrhs, cons
     if (!x) return fr_error(ctx, FRIG_ERR_NUMERIC, "sparse solve failed (CHOLMOD status %d)", ch->cc.status);
     memcpy(X, x->x, sizeof(double) * (size_t)ch->n * (size_t)nrhs);
     cholmod_free_dense(&x, &ch->cc);
-    return FRIG_OK;
-}
-
-/* S = the upper triangle of M (stype 1) permuted by perm (new -> old), rows sorted in each
- * column; vmap[e]: the slot in S of M's value e. */
-static cholmod_sparse *permuted_upper(fr_cholesky *ch, const int *perm, size_t *vmap) {
-    int n = ch->n;
-    const int *Mp = ch->M->p, *Mi = ch->M->i;
-    size_t nnz = (size_t)Mp[n];
-    int *iperm = malloc(sizeof(int) * ((size_t)n + 1)), *count = calloc((size_t)n + 1, sizeof(int));
-    cholmod_sparse *S = cholmod_allocate_sparse((size_t)n, (size_t)n, nnz, 1, 1, 1, CHOLMOD_REAL, &ch->cc);
-    if (!iperm || !count || !S) {
-        free(iperm), free(count);
-        cholmod_free_sparse(&S, &ch->cc);
-        return NULL;
-    }
-    for (int k = 0; k < n; k++) iperm[perm[k]] = k;
-    for (int j = 0; j < n; j++)
-        for (int e = Mp[j]; e < Mp[j + 1]; e++) {
-            int a = iperm[Mi[e]], b = iperm[j];
-            count[a > b ? a : b]++;
-        }
-    int *Sp = S->p, *Si = S->i;
-    Sp[0] = 0;
-    for (int k = 0; k < n; k++) Sp[k + 1] = Sp[k] + count[k], count[k] = Sp[k];
-    /* Entries to their columns, then each column sorted by row (insertion: a few entries each). */
-    for (int j = 0; j < n; j++)
-        for (int e = Mp[j]; e < Mp[j + 1]; e++) {
-            int a = iperm[Mi[e]], b = iperm[j], col = a > b ? a : b, slot = count[col]++;
-            Si[slot] = a < b ? a : b;
-            vmap[e] = (size_t)slot;
-        }
-    int *owner = malloc(sizeof(int) * (nnz + 1));
-    if (owner) {
-        for (size_t e = 0; e < nnz; e++) owner[vmap[e]] = (int)e;
-        for (int k = 0; k < n; k++)
-            for (int x = Sp[k] + 1; x < Sp[k + 1]; x++)
-                for (int y = x; y > Sp[k] && Si[y - 1] > Si[y]; y--) {
-                    int t = Si[y], o = owner[y];
-                    Si[y] = Si[y - 1], owner[y] = owner[y - 1];
-                    Si[y - 1] = t, owner[y - 1] = o;
-                }
-        for (size_t e = 0; e < nnz; e++) vmap[owner[e]] = e;
-    }
-    free(iperm), free(count), free(owner);
-    if (!owner) cholmod_free_sparse(&S, &ch->cc);
-    return S;
-}
-
-/* The simplicial factor keeps the permuted matrix and its natural-order analysis (the same
- * factor and solution bits: CHOLMOD permutes each factorization's matrix into the same sorted
- * upper triangle itself). Kept as it was when the new analysis differs in any way. */
-static frig_status prepermute(frig_ctx *ctx, fr_cholesky *ch) {
-    if (ch->L->is_super || !ch->L->Perm) return FRIG_OK;
-    int n = ch->n;
-    size_t nnz = fr_cholesky_value_count(ch);
-    ch->perm = malloc(sizeof(int) * ((size_t)n + 1));
-    ch->vmap = malloc(sizeof(size_t) * (nnz + 1));
-    if (!ch->perm || !ch->vmap) return fr_nomem(ctx, "a sparse factorization");
-    memcpy(ch->perm, ch->L->Perm, sizeof(int) * (size_t)n);
-    cholmod_sparse *S = permuted_upper(ch, ch->perm, ch->vmap);
-    if (!S) return fr_nomem(ctx, "a sparse factorization");
-    double *Sx = S->x;
-    const double *Mx = ch->M->x;
-    for (size_t e = 0; e < nnz; e++) Sx[ch->vmap[e]] = Mx[e];
-    int nmethods = ch->cc.nmethods, ordering = ch->cc.method[0].ordering, postorder = ch->cc.postorder;
-    ch->cc.nmethods = 1, ch->cc.method[0].ordering = CHOLMOD_NATURAL, ch->cc.postorder = 0;
-    cholmod_factor *L = cholmod_analyze(S, &ch->cc);
-    ch->cc.nmethods = nmethods, ch->cc.method[0].ordering = ordering, ch->cc.postorder = postorder;
-    int same = L && !L->is_super && L->n == ch->L->n;
-    const int *perm = L ? L->Perm : NULL, *cc0 = ch->L->ColCount, *cc1 = L ? L->ColCount : NULL;
-    for (int k = 0; k < n && same; k++) same = (!perm || perm[k] == k) && cc0[k] == cc1[k];
-    if (same) {
-        cholmod_factorize(S, L, &ch->cc);
-        same = ch->cc.status == CHOLMOD_OK;
-    }
-    if (!same) { /* keep CHOLMOD's own permutation */
-        cholmod_free_factor(&L, &ch->cc);
-        cholmod_free_sparse(&S, &ch->cc);
-        free(ch->perm), free(ch->vmap);
-        ch->perm = NULL, ch->vmap = NULL;
-        return FRIG_OK;
-    }
-    cholmod_free_factor(&ch->L, &ch->cc);
-    cholmod_free_sparse(&ch->M, &ch->cc);
-    ch->L = L, ch->M = S;
     return FRIG_OK;
 }
 
@@ -437,7 +324,6 @@ frig_status fr_cholesky_create_csr(frig_ctx *ctx, const fr_csr *lower, int simpl
     }
     cp[n] = (int)q;
     frig_status s = analyze_and_factor(ctx, ch);
-    if (!s && simplicial) s = prepermute(ctx, ch);
     if (s) {
         fr_cholesky_free(ch);
         return s;
@@ -449,12 +335,7 @@ frig_status fr_cholesky_create_csr(frig_ctx *ctx, const fr_csr *lower, int simpl
 size_t fr_cholesky_value_count(const fr_cholesky *ch) { return ch && ch->M ? (size_t)((int *)ch->M->p)[ch->n] : 0; }
 
 frig_status fr_cholesky_refactor_values(frig_ctx *ctx, fr_cholesky *ch, const double *values) {
-    size_t nnz = fr_cholesky_value_count(ch);
-    double *x = ch->M->x;
-    if (ch->vmap)
-        for (size_t e = 0; e < nnz; e++) x[ch->vmap[e]] = values[e];
-    else
-        memcpy(x, values, sizeof(double) * nnz);
+    memcpy(ch->M->x, values, sizeof(double) * fr_cholesky_value_count(ch));
     return factor_numeric(ctx, ch);
 }
 
@@ -465,6 +346,5 @@ void fr_cholesky_free(fr_cholesky *ch) {
     cholmod_free_sparse(&ch->A, &ch->cc);
     cholmod_finish(&ch->cc);
     free(ch->ti), free(ch->tj), free(ch->slot), free(ch->first);
-    free(ch->perm), free(ch->vmap);
     free(ch);
 }
