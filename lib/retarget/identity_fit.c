@@ -84,10 +84,10 @@ static int landmark_rows(const fr_rt_settings *s, const frig_model *model, const
 }
 
 /* Rows of one photo: J (rows x (n_id + K), column-major, ld = LD) and r; *surface gets the
- * number of match rows (the landmarks' follow). row: room for n_id + K values. */
+ * number of match rows (the landmarks' follow). */
 static int photo_rows(const fr_rt_settings *s, const frig_model *model, const float *B, const fr_rt_mesh *m,
                       int n_id, int K, fr_rt_photo *p, const float *cur, fr_tri_tree *tree, fr_rt_match *mt,
-                      double max_dist, double *J, double *r, double *row, int *surface) {
+                      double max_dist, double *J, double *r, int *surface) {
     *surface = 0;
     for (int st = 0; st < (s->rigid_iterations > 0 ? RIGID_STEPS : 0); st++) {
         int n = fr_rt_match_cloud(s, m, tree, cur, p, max_dist, mt);
@@ -110,14 +110,11 @@ static int photo_rows(const fr_rt_settings *s, const frig_model *model, const fl
                 coef[3 * j + d] = q->bary[j] * q->n[d] / SIGMA;
                 b[3 * j + d] = B + (3 * (size_t)v[j] + d) * cols;
             }
-        /* The row summed term by term over all columns at once (the same sums as column by column). */
-        for (int k = 0; k < cols; k++) row[k] = 0;
-        for (int e = 0; e < 9; e++) {
-            const float *be = b[e];
-            double ce = coef[e];
-            for (int k = 0; k < cols; k++) row[k] += ce * be[k];
+        for (int k = 0; k < cols; k++) {
+            double a = 0;
+            for (int e = 0; e < 9; e++) a += coef[e] * b[e][k];
+            J[(size_t)k * LD + rows] = a;
         }
-        for (int k = 0; k < cols; k++) J[(size_t)k * LD + rows] = row[k];
     }
     *surface = rows;
     return rows + landmark_rows(s, model, B, m->nv, n_id, K, p, cur, rows, J, r);
@@ -202,7 +199,7 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
         for (int i = 0; i < n; i++) {
             if (failed) continue;
             int tid = omp_get_thread_num();
-            double *J = work + per_thread * (size_t)tid, *r = J + (size_t)LD * cols, *row = r + LD;
+            double *J = work + per_thread * (size_t)tid, *r = J + (size_t)LD * cols;
             float *x = cur + nf3 * (size_t)tid;
             fr_rt_photo *p = &photos[i];
             per_photo *q = &pp[i];
@@ -211,8 +208,7 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
             fr_tri_tree *tree = trees[tid];
             fr_tri_tree_refit(tree, x);
             int surface = 0;
-            int rows = p->rejected ? 0 : photo_rows(s, model, B, m, n_id, K, p, x, tree, mt[tid], max_dist, J, r, row,
-                                                        &surface);
+            int rows = p->rejected ? 0 : photo_rows(s, model, B, m, n_id, K, p, x, tree, mt[tid], max_dist, J, r, &surface);
             /* A cloud that needs too large a turn to fit shows something else (a wrong pose). */
             if (rows && fr_rt_correction_angle(p) > s->max_correction) p->rejected = 1, rows = 0;
             if (rows == 0) continue;
