@@ -375,18 +375,34 @@ static void extend_add(const fr_frontal *an, const double *stack, int s, int m, 
     }
 }
 
-/* Dense Cholesky of the front's first w columns (m rows, column-major): L11 and L21 in place. */
+/* y[i] -= sum_k c_k[i] c_k[0] for i < len, c_k = cols + ld k (k < nk): four columns at a time. */
+static void subtract_products(double *y, int len, const double *cols, size_t ld, int nk) {
+    int k = 0;
+    for (; k + 4 <= nk; k += 4) {
+        const double *c0 = cols + ld * k, *c1 = c0 + ld, *c2 = c1 + ld, *c3 = c2 + ld;
+        double l0 = c0[0], l1 = c1[0], l2 = c2[0], l3 = c3[0];
+        if (l0 == 0 && l1 == 0 && l2 == 0 && l3 == 0) continue;
+        for (int i = 0; i < len; i++) y[i] -= c0[i] * l0 + c1[i] * l1 + c2[i] * l2 + c3[i] * l3;
+    }
+    for (; k < nk; k++) {
+        const double *c = cols + ld * k;
+        double l = c[0];
+        if (l == 0) continue;
+        for (int i = 0; i < len; i++) y[i] -= c[i] * l;
+    }
+}
+
+/* Dense Cholesky of the front's first w columns (m rows, column-major), column by column from
+ * the ones before it: L11 and L21 in place. */
 static int factor_columns(double *F, int m, int w) {
-    for (int k = 0; k < w; k++) {
-        double *ck = F + (size_t)k * m, d = ck[k];
+    for (int j = 0; j < w; j++) {
+        double *cj = F + (size_t)j * m;
+        subtract_products(cj + j, m - j, F + j, (size_t)m, j);
+        double d = cj[j];
         if (!(d > 0)) return 0;
         double l = sqrt(d), inv = 1.0 / l;
-        ck[k] = l;
-        for (int i = k + 1; i < m; i++) ck[i] *= inv;
-        for (int j = k + 1; j < w; j++) {
-            double ljk = ck[j], *cj = F + (size_t)j * m;
-            for (int i = j; i < m; i++) cj[i] -= ck[i] * ljk;
-        }
+        cj[j] = l;
+        for (int i = j + 1; i < m; i++) cj[i] *= inv;
     }
     return 1;
 }
@@ -396,14 +412,8 @@ static void update_matrix(const double *F, int m, int w, double *U) {
     int u = m - w;
     for (int jj = 0; jj < u; jj++) {
         double *Uc = U + (size_t)jj * u;
-        const double *Fc = F + (size_t)(w + jj) * m + w;
-        for (int ii = jj; ii < u; ii++) Uc[ii] = Fc[ii];
-        for (int k = 0; k < w; k++) {
-            const double *ck = F + (size_t)k * m + w;
-            double ljk = ck[jj];
-            if (ljk == 0) continue;
-            for (int ii = jj; ii < u; ii++) Uc[ii] -= ck[ii] * ljk;
-        }
+        memcpy(Uc + jj, F + (size_t)(w + jj) * m + w + jj, sizeof(double) * (size_t)(u - jj));
+        subtract_products(Uc + jj, u - jj, F + w + jj, (size_t)m, w);
     }
 }
 
@@ -412,7 +422,7 @@ frig_status fr_frontal_factorize(frig_ctx *ctx, fr_frontal_factor *f, const doub
     double *F = f->front;
     for (int s = 0; s < an->ns; s++) {
         int w = an->sfirst[s + 1] - an->sfirst[s], m = an->rstart[s + 1] - an->rstart[s];
-        for (int j = 0; j < m; j++) memset(F + (size_t)j * m + j, 0, sizeof(double) * (size_t)(m - j));
+        memset(F, 0, sizeof(double) * (size_t)m * m); /* (one call: cheaper than the lower part column by column) */
         for (size_t q = an->astart[s]; q < an->astart[s + 1]; q++) F[an->adst[q]] += values[an->asrc[q]];
         extend_add(an, f->stack, s, m, F);
         if (!factor_columns(F, m, w))
