@@ -435,7 +435,7 @@ frig_status fr_frontal_factorize(frig_ctx *ctx, fr_frontal_factor *f, const doub
 }
 
 /* L y = b, then L^T x = y, on nrhs interleaved columns (x[nrhs k + c]): one pass over the factor. */
-static void solve_interleaved(const fr_frontal_factor *f, int nrhs, double *x) {
+static inline __attribute__((always_inline)) void solve_interleaved(const fr_frontal_factor *f, int nrhs, double *x) {
     const fr_frontal *an = f->an;
     size_t r = (size_t)nrhs;
     for (int s = 0; s < an->ns; s++) {
@@ -480,7 +480,10 @@ frig_status fr_frontal_solve(frig_ctx *ctx, fr_frontal_factor *f, int nrhs, cons
     }
     for (size_t c = 0; c < r; c++)
         for (size_t k = 0; k < n; k++) f->x[r * k + c] = B[n * c + (size_t)an->perm[k]];
-    solve_interleaved(f, nrhs, f->x);
+    if (nrhs == 3)
+        solve_interleaved(f, 3, f->x); /* (the deformations' x, y and z: the loops over them unrolled) */
+    else
+        solve_interleaved(f, nrhs, f->x);
     for (size_t c = 0; c < r; c++)
         for (size_t k = 0; k < n; k++) X[n * c + (size_t)an->perm[k]] = f->x[r * k + c];
     return FRIG_OK;
