@@ -40,7 +40,7 @@ static void point(const fr_sfs_expression_grid *g, const fr_sfs_expression_photo
         int j = L[a];
         if (dw[j] == 0)
             continue;
-        const float *d = g->dX + 3 * ((size_t)j * g->nt + (size_t)u);
+        const float *d = g->dX + 3 * ((size_t)u * g->active + (size_t)j);
         for (int q = 0; q < 3; q++)
             P[q] += dw[j] * d[q];
     }
@@ -49,8 +49,41 @@ static void point(const fr_sfs_expression_grid *g, const fr_sfs_expression_photo
 typedef struct scratch {
     double *dN; /* 3 per active shape */
     double *dP; /* 3 per active shape: the texel point's change */
-    double *jr; /* per active shape: one channel's residual derivative */
+    double *jr; /* 3 x active: each channel's residual derivative by each active shape */
 } scratch;
+
+/* One texel's Gauss-Newton terms into H (column-major, upper part) and gr: per channel ch with
+ * live[ch], weight w[ch], residual res[ch] and derivatives sc->jr[ch * na + a]. The three
+ * channels are added to each entry in turn (channel order, as one channel's pass after the
+ * other would), one load and store of the entry for them all. */
+static void accumulate(const scratch *sc, int na, const int *L, int nl, const double w[3], const int live[3],
+                       const double res[3], double *H, double *gr) {
+    for (int a = 0; a < nl; a++) {
+        double wj[3];
+        const double *jr[3];
+        int k = 0;
+        for (int ch = 0; ch < 3; ch++) {
+            if (!live[ch])
+                continue;
+            const double *j = sc->jr + (size_t)ch * na;
+            double v = w[ch] * j[a];
+            if (v == 0)
+                continue;
+            gr[L[a]] += v * res[ch];
+            wj[k] = v, jr[k++] = j;
+        }
+        double *col = H + (size_t)na * L[a];
+        if (k == 3)
+            for (int b = a; b < nl; b++)
+                col[L[b]] = col[L[b]] + wj[0] * jr[0][b] + wj[1] * jr[1][b] + wj[2] * jr[2][b];
+        else if (k == 2)
+            for (int b = a; b < nl; b++)
+                col[L[b]] = col[L[b]] + wj[0] * jr[0][b] + wj[1] * jr[1][b];
+        else if (k == 1)
+            for (int b = a; b < nl; b++)
+                col[L[b]] += wj[0] * jr[0][b];
+    }
+}
 
 /* The data energy (normalized by W) at weight change dw; with H (active x active, column-major)
  * and gr (active) its Gauss-Newton normal equations. *W: the seen texels' weight (computed when
@@ -112,9 +145,9 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
             /* the normal's and the point's derivatives by each active weight */
             for (int a = 0; a < nl; a++) {
                 int j = L[a];
-                const float *d0 = g->dX + 3 * ((size_t)j * g->nt + (size_t)t);
-                const float *dr = g->dX + 3 * ((size_t)j * g->nt + (size_t)r);
-                const float *dd = g->dX + 3 * ((size_t)j * g->nt + (size_t)d);
+                const float *d0 = g->dX + 3 * ((size_t)t * na + (size_t)j);
+                const float *dr = g->dX + 3 * ((size_t)r * na + (size_t)j);
+                const float *dd = g->dX + 3 * ((size_t)d * na + (size_t)j);
                 double dex[3], dey[3], c1[3], c2[3], dc[3];
                 for (int q = 0; q < 3; q++)
                     dex[q] = dr[q] - d0[q], dey[q] = dd[q] - d0[q], sc->dP[3 * a + q] = d0[q];
@@ -126,31 +159,29 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
                     sc->dN[3 * a + q] = sg * (dc[q] - proj * N[q]) / l;
             }
         }
+        double res[3], w[3];
+        int live[3];
         for (int ch = 0; ch < 3; ch++) {
-            double alb = p->albedo[3 * t + ch], res = (alb * S[ch] - I[ch]) / scale;
-            e += p->w[t] * fr_sfs_tukey_rho(res);
+            double alb = p->albedo[3 * t + ch];
+            res[ch] = (alb * S[ch] - I[ch]) / scale;
+            e += p->w[t] * fr_sfs_tukey_rho(res[ch]);
             if (!H)
                 continue;
-            double w = p->w[t] * fr_sfs_tukey_w(res);
-            if (!(w > 0))
+            w[ch] = p->w[t] * fr_sfs_tukey_w(res[ch]);
+            live[ch] = w[ch] > 0;
+            if (!live[ch])
                 continue;
+            double *jr = sc->jr + (size_t)ch * na;
             for (int a = 0; a < nl; a++) {
                 const double *dn = sc->dN + 3 * a, *dp = sc->dP + 3 * a;
                 double js = alb * (G[ch][0] * dn[0] + G[ch][1] * dn[1] + G[ch][2] * dn[2]);
                 double du = Jp[0] * dp[0] + Jp[1] * dp[1] + Jp[2] * dp[2];
                 double dv = Jp[3] * dp[0] + Jp[4] * dp[1] + Jp[5] * dp[2];
-                sc->jr[a] = (js - (gx[ch] * du + gy[ch] * dv)) / scale;
-            }
-            for (int a = 0; a < nl; a++) {
-                double wj = w * sc->jr[a];
-                if (wj == 0)
-                    continue;
-                gr[L[a]] += wj * res;
-                double *col = H + (size_t)na * L[a];
-                for (int b = a; b < nl; b++)
-                    col[L[b]] += wj * sc->jr[b];
+                jr[a] = (js - (gx[ch] * du + gy[ch] * dv)) / scale;
             }
         }
+        if (H)
+            accumulate(sc, na, L, nl, w, live, res, H, gr);
     }
     if (count_w)
         *W = wsum;
@@ -190,7 +221,7 @@ int fr_sfs_expression_refine(frig_ctx *ctx, const fr_sfs_expression_grid *g, con
         return 0;
     double *H = buf, *A = H + nn, *gr = A + nn, *b = gr + na, *x = b + na, *dw = x + na, *lo = dw + na, *hi = lo + na;
     scratch sc = {hi + na, hi + 4 * (size_t)na, hi + 7 * (size_t)na};
-    double *dx = hi + 8 * (size_t)na;
+    double *dx = hi + 10 * (size_t)na;
     for (int j = 0; j < na; j++)
         x[j] = v->weights[g->shape[j]], dw[j] = 0;
     double W = 0;
