@@ -30,21 +30,27 @@ static void cross(const double a[3], const double b[3], double c[3]) {
     c[0] = a[1] * b[2] - a[2] * b[1], c[1] = a[2] * b[0] - a[0] * b[2], c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/* Texel u's point at weight change dw (active shapes; those of list L, nl of them, the only ones
- * that move it). */
-static void point(const fr_sfs_expression_grid *g, const fr_sfs_expression_photo *p, const double *dw, int u,
-                  const int *L, int nl, double P[3]) {
-    for (int q = 0; q < 3; q++)
-        P[q] = p->X[3 * (size_t)u + q] + p->D[u] * MM * p->n[3 * (size_t)u + q];
+/* The points of texel t and of its right and down neighbours r, d at weight change dw (active
+ * shapes; those of t's list L, nl of them, the only ones that move them), each summed in the list's
+ * order. */
+static void points(const fr_sfs_expression_grid *g, const fr_sfs_expression_photo *p, const double *dw, const int u[3],
+                   const int *L, int nl, double P[3][3]) {
+    for (int c = 0; c < 3; c++)
+        for (int q = 0; q < 3; q++)
+            P[c][q] = p->X[3 * (size_t)u[c] + q] + p->D[u[c]] * MM * p->n[3 * (size_t)u[c] + q];
     for (int a = 0; a < nl; a++) {
         int j = L[a];
         if (dw[j] == 0)
             continue;
-        const float *d = g->dX + 3 * ((size_t)u * g->active + (size_t)j);
-        for (int q = 0; q < 3; q++)
-            P[q] += dw[j] * d[q];
+        for (int c = 0; c < 3; c++) {
+            const float *d = g->dX + 3 * ((size_t)u[c] * g->active + (size_t)j);
+            for (int q = 0; q < 3; q++)
+                P[c][q] += dw[j] * d[q];
+        }
     }
 }
+
+typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
 
 typedef struct scratch {
     double *dN; /* 3 per active shape */
@@ -73,10 +79,20 @@ static void accumulate(const scratch *sc, int na, const int *L, int nl, const do
             wj[k] = v, jr[k++] = j;
         }
         double *col = H + (size_t)na * L[a];
-        if (k == 3)
-            for (int b = a; b < nl; b++)
+        if (k == 3) {
+            /* two entries at a time (the same operations per entry, in pairs of lanes) */
+            v2d w0 = {wj[0], wj[0]}, w1 = {wj[1], wj[1]}, w2 = {wj[2], wj[2]};
+            int b = a;
+            for (; b + 1 < nl; b += 2) {
+                double *h0 = col + L[b], *h1 = col + L[b + 1];
+                v2d h = {*h0, *h1}, j0, j1, j2;
+                memcpy(&j0, jr[0] + b, sizeof j0), memcpy(&j1, jr[1] + b, sizeof j1), memcpy(&j2, jr[2] + b, sizeof j2);
+                h = h + w0 * j0 + w1 * j1 + w2 * j2;
+                *h0 = h[0], *h1 = h[1];
+            }
+            for (; b < nl; b++)
                 col[L[b]] = col[L[b]] + wj[0] * jr[0][b] + wj[1] * jr[1][b] + wj[2] * jr[2][b];
-        else if (k == 2)
+        } else if (k == 2)
             for (int b = a; b < nl; b++)
                 col[L[b]] = col[L[b]] + wj[0] * jr[0][b] + wj[1] * jr[1][b];
         else if (k == 1)
@@ -99,10 +115,11 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
         int r = g->right[t], d = g->down[t];
         if (!(p->w[t] > 0) || r < 0 || d < 0)
             continue;
-        double P0[3], Pr[3], Pd[3], ex[3], ey[3], c[3];
-        const int *L = g->list + g->offset[t];
+        double P[3][3], ex[3], ey[3], c[3];
+        const int *L = g->list + g->offset[t], u[3] = {t, r, d};
         int nl = g->offset[t + 1] - g->offset[t];
-        point(g, p, dw, t, L, nl, P0), point(g, p, dw, r, L, nl, Pr), point(g, p, dw, d, L, nl, Pd);
+        points(g, p, dw, u, L, nl, P);
+        const double *P0 = P[0], *Pr = P[1], *Pd = P[2];
         for (int q = 0; q < 3; q++)
             ex[q] = Pr[q] - P0[q], ey[q] = Pd[q] - P0[q];
         cross(ex, ey, c);
