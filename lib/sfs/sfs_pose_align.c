@@ -432,12 +432,12 @@ static frig_status align_terms(frig_ctx *ctx, level *L, const double A[9], const
 static int align_lm(frig_ctx *ctx, level *L, int steps, double A[9], double tc[3], double *scratch) {
     double H[36], g[6], mu = 1e-3, e;
     int taken = 0;
+    /* the turn's centre: the face's mean point at the current pose (decouples turn and shift) */
+    double mq[3] = {0, 0, 0};
+    for (int f = 0; f < L->nf; f++)
+        for (int c = 0; c < 3; c++)
+            mq[c] += L->fq[3 * (size_t)f + c] / L->nf;
     for (int it = 0; it < steps; it++) {
-        /* the turn's centre: the face's mean point at the current pose (decouples turn and shift) */
-        double mq[3] = {0, 0, 0};
-        for (int f = 0; f < L->nf; f++)
-            for (int c = 0; c < 3; c++)
-                mq[c] += L->fq[3 * (size_t)f + c] / L->nf;
         fr_mat3_apply(A, mq, L->pc);
         for (int c = 0; c < 3; c++)
             L->pc[c] += tc[c];
