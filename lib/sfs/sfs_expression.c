@@ -30,27 +30,76 @@ static void cross(const double a[3], const double b[3], double c[3]) {
     c[0] = a[1] * b[2] - a[2] * b[1], c[1] = a[2] * b[0] - a[0] * b[2], c[2] = a[0] * b[1] - a[1] * b[0];
 }
 
-/* Texel u's point at weight change dw (active shapes; those of list L, nl of them, the only ones
- * that move it). */
-static void point(const fr_sfs_expression_grid *g, const fr_sfs_expression_photo *p, const double *dw, int u,
-                  const int *L, int nl, double P[3]) {
-    for (int q = 0; q < 3; q++)
-        P[q] = p->X[3 * (size_t)u + q] + p->D[u] * MM * p->n[3 * (size_t)u + q];
+/* The points of texel t and of its right and down neighbours r, d at weight change dw (active
+ * shapes; those of t's list L, nl of them, the only ones that move them), each summed in the list's
+ * order. */
+static void points(const fr_sfs_expression_grid *g, const fr_sfs_expression_photo *p, const double *dw, const int u[3],
+                   const int *L, int nl, double P[3][3]) {
+    for (int c = 0; c < 3; c++)
+        for (int q = 0; q < 3; q++)
+            P[c][q] = p->X[3 * (size_t)u[c] + q] + p->D[u[c]] * MM * p->n[3 * (size_t)u[c] + q];
     for (int a = 0; a < nl; a++) {
         int j = L[a];
         if (dw[j] == 0)
             continue;
-        const float *d = g->dX + 3 * ((size_t)j * g->nt + (size_t)u);
-        for (int q = 0; q < 3; q++)
-            P[q] += dw[j] * d[q];
+        for (int c = 0; c < 3; c++) {
+            const float *d = g->dX + 3 * ((size_t)u[c] * g->active + (size_t)j);
+            for (int q = 0; q < 3; q++)
+                P[c][q] += dw[j] * d[q];
+        }
     }
 }
+
+typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
 
 typedef struct scratch {
     double *dN; /* 3 per active shape */
     double *dP; /* 3 per active shape: the texel point's change */
-    double *jr; /* per active shape: one channel's residual derivative */
+    double *jr; /* 3 x active: each channel's residual derivative by each active shape */
 } scratch;
+
+/* One texel's Gauss-Newton terms into H (column-major, upper part) and gr: per channel ch with
+ * live[ch], weight w[ch], residual res[ch] and derivatives sc->jr[ch * na + a]. The three
+ * channels are added to each entry in turn (channel order, as one channel's pass after the
+ * other would), one load and store of the entry for them all. */
+static void accumulate(const scratch *sc, int na, const int *L, int nl, const double w[3], const int live[3],
+                       const double res[3], double *H, double *gr) {
+    for (int a = 0; a < nl; a++) {
+        double wj[3];
+        const double *jr[3];
+        int k = 0;
+        for (int ch = 0; ch < 3; ch++) {
+            if (!live[ch])
+                continue;
+            const double *j = sc->jr + (size_t)ch * na;
+            double v = w[ch] * j[a];
+            if (v == 0)
+                continue;
+            gr[L[a]] += v * res[ch];
+            wj[k] = v, jr[k++] = j;
+        }
+        double *col = H + (size_t)na * L[a];
+        if (k == 3) {
+            /* two entries at a time (the same operations per entry, in pairs of lanes) */
+            v2d w0 = {wj[0], wj[0]}, w1 = {wj[1], wj[1]}, w2 = {wj[2], wj[2]};
+            int b = a;
+            for (; b + 1 < nl; b += 2) {
+                double *h0 = col + L[b], *h1 = col + L[b + 1];
+                v2d h = {*h0, *h1}, j0, j1, j2;
+                memcpy(&j0, jr[0] + b, sizeof j0), memcpy(&j1, jr[1] + b, sizeof j1), memcpy(&j2, jr[2] + b, sizeof j2);
+                h = h + w0 * j0 + w1 * j1 + w2 * j2;
+                *h0 = h[0], *h1 = h[1];
+            }
+            for (; b < nl; b++)
+                col[L[b]] = col[L[b]] + wj[0] * jr[0][b] + wj[1] * jr[1][b] + wj[2] * jr[2][b];
+        } else if (k == 2)
+            for (int b = a; b < nl; b++)
+                col[L[b]] = col[L[b]] + wj[0] * jr[0][b] + wj[1] * jr[1][b];
+        else if (k == 1)
+            for (int b = a; b < nl; b++)
+                col[L[b]] += wj[0] * jr[0][b];
+    }
+}
 
 /* The data energy (normalized by W) at weight change dw; with H (active x active, column-major)
  * and gr (active) its Gauss-Newton normal equations. *W: the seen texels' weight (computed when
@@ -66,10 +115,11 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
         int r = g->right[t], d = g->down[t];
         if (!(p->w[t] > 0) || r < 0 || d < 0)
             continue;
-        double P0[3], Pr[3], Pd[3], ex[3], ey[3], c[3];
-        const int *L = g->list + g->offset[t];
+        double P[3][3], ex[3], ey[3], c[3];
+        const int *L = g->list + g->offset[t], u[3] = {t, r, d};
         int nl = g->offset[t + 1] - g->offset[t];
-        point(g, p, dw, t, L, nl, P0), point(g, p, dw, r, L, nl, Pr), point(g, p, dw, d, L, nl, Pd);
+        points(g, p, dw, u, L, nl, P);
+        const double *P0 = P[0], *Pr = P[1], *Pd = P[2];
         for (int q = 0; q < 3; q++)
             ex[q] = Pr[q] - P0[q], ey[q] = Pd[q] - P0[q];
         cross(ex, ey, c);
@@ -112,9 +162,9 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
             /* the normal's and the point's derivatives by each active weight */
             for (int a = 0; a < nl; a++) {
                 int j = L[a];
-                const float *d0 = g->dX + 3 * ((size_t)j * g->nt + (size_t)t);
-                const float *dr = g->dX + 3 * ((size_t)j * g->nt + (size_t)r);
-                const float *dd = g->dX + 3 * ((size_t)j * g->nt + (size_t)d);
+                const float *d0 = g->dX + 3 * ((size_t)t * na + (size_t)j);
+                const float *dr = g->dX + 3 * ((size_t)r * na + (size_t)j);
+                const float *dd = g->dX + 3 * ((size_t)d * na + (size_t)j);
                 double dex[3], dey[3], c1[3], c2[3], dc[3];
                 for (int q = 0; q < 3; q++)
                     dex[q] = dr[q] - d0[q], dey[q] = dd[q] - d0[q], sc->dP[3 * a + q] = d0[q];
@@ -126,31 +176,29 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
                     sc->dN[3 * a + q] = sg * (dc[q] - proj * N[q]) / l;
             }
         }
+        double res[3], w[3];
+        int live[3];
         for (int ch = 0; ch < 3; ch++) {
-            double alb = p->albedo[3 * t + ch], res = (alb * S[ch] - I[ch]) / scale;
-            e += p->w[t] * fr_sfs_tukey_rho(res);
+            double alb = p->albedo[3 * t + ch];
+            res[ch] = (alb * S[ch] - I[ch]) / scale;
+            e += p->w[t] * fr_sfs_tukey_rho(res[ch]);
             if (!H)
                 continue;
-            double w = p->w[t] * fr_sfs_tukey_w(res);
-            if (!(w > 0))
+            w[ch] = p->w[t] * fr_sfs_tukey_w(res[ch]);
+            live[ch] = w[ch] > 0;
+            if (!live[ch])
                 continue;
+            double *jr = sc->jr + (size_t)ch * na;
             for (int a = 0; a < nl; a++) {
                 const double *dn = sc->dN + 3 * a, *dp = sc->dP + 3 * a;
                 double js = alb * (G[ch][0] * dn[0] + G[ch][1] * dn[1] + G[ch][2] * dn[2]);
                 double du = Jp[0] * dp[0] + Jp[1] * dp[1] + Jp[2] * dp[2];
                 double dv = Jp[3] * dp[0] + Jp[4] * dp[1] + Jp[5] * dp[2];
-                sc->jr[a] = (js - (gx[ch] * du + gy[ch] * dv)) / scale;
-            }
-            for (int a = 0; a < nl; a++) {
-                double wj = w * sc->jr[a];
-                if (wj == 0)
-                    continue;
-                gr[L[a]] += wj * res;
-                double *col = H + (size_t)na * L[a];
-                for (int b = a; b < nl; b++)
-                    col[L[b]] += wj * sc->jr[b];
+                jr[a] = (js - (gx[ch] * du + gy[ch] * dv)) / scale;
             }
         }
+        if (H)
+            accumulate(sc, na, L, nl, w, live, res, H, gr);
     }
     if (count_w)
         *W = wsum;
@@ -190,7 +238,7 @@ int fr_sfs_expression_refine(frig_ctx *ctx, const fr_sfs_expression_grid *g, con
         return 0;
     double *H = buf, *A = H + nn, *gr = A + nn, *b = gr + na, *x = b + na, *dw = x + na, *lo = dw + na, *hi = lo + na;
     scratch sc = {hi + na, hi + 4 * (size_t)na, hi + 7 * (size_t)na};
-    double *dx = hi + 8 * (size_t)na;
+    double *dx = hi + 10 * (size_t)na;
     for (int j = 0; j < na; j++)
         x[j] = v->weights[g->shape[j]], dw[j] = 0;
     double W = 0;

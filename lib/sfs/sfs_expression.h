@@ -14,7 +14,7 @@ typedef struct fr_sfs_expression_grid {
     int shapes;              /* the rig's shapes */
     int active;              /* shapes refined (those that move the face) */
     const int *shape;        /* their rig shape numbers */
-    const float *dX;         /* active x nt x 3: shape shape[j]'s delta at texel t, head frame, metres */
+    const float *dX;         /* nt x active x 3: shape shape[j]'s delta at texel t, head frame, metres */
     const int *offset;       /* nt + 1: texel t's shapes are list[offset[t] .. offset[t + 1]) */
     const int *list;         /* active shapes (ascending) that move t or its right or down neighbour */
 } fr_sfs_expression_grid;

@@ -72,16 +72,42 @@ static double dot9(const double *u, const double *v) {
     return s;
 }
 
+static const double U[FR_SH_COUNT] = {1.0 / 0.282094791773878, 0, 0, 0, 0, 0, 0, 0, 0};
+
+/* What directional_fit needs of the moments whatever the direction: per channel u^T M u and
+ * b^T u of the ambient U; and whether M is finite (then u^T M v sums only U's row: the other
+ * terms are zeros, which leave the sum as it is). */
+typedef struct moments_u {
+    double a11[3], g1[3];
+    int finite;
+} moments_u;
+
+static void moments_ambient(const double M[3][FR_SH_COUNT * FR_SH_COUNT], const double b[3][FR_SH_COUNT],
+                            moments_u *mu) {
+    mu->finite = 1;
+    for (int c = 0; c < 3; c++) {
+        mu->a11[c] = quad(M[c], U, U), mu->g1[c] = dot9(b[c], U);
+        for (int k = 0; k < FR_SH_COUNT * FR_SH_COUNT; k++) mu->finite &= isfinite(M[c][k]) != 0;
+    }
+}
+
+/* u^T M v for u = U (quad's sum, its zero terms left out when M is finite). */
+static double quad_u(const double *M, const double *v, int finite) {
+    if (!finite) return quad(M, U, v);
+    double s = 0;
+    for (int l = 0; l < FR_SH_COUNT; l++) s += U[0] * M[l] * v[l];
+    return s;
+}
+
 /* For light direction d: per channel the non-negative ambient and direct strengths that
  * minimize x^T M x - 2 b^T x with x = amb U + dir K(d); the summed energy, the coefficients. */
 static double directional_fit(const double M[3][FR_SH_COUNT * FR_SH_COUNT], const double b[3][FR_SH_COUNT],
-                              const double d[3], double sh[3][FR_SH_COUNT]) {
-    static const double U[FR_SH_COUNT] = {1.0 / 0.282094791773878, 0, 0, 0, 0, 0, 0, 0, 0};
+                              const moments_u *mu, const double d[3], double sh[3][FR_SH_COUNT]) {
     double K[FR_SH_COUNT], e = 0;
     fr_sh_irradiance_coeffs(d, 1.0, 0.0, K);
     for (int c = 0; c < 3; c++) {
-        double a11 = quad(M[c], U, U), a12 = quad(M[c], U, K), a22 = quad(M[c], K, K);
-        double g1 = dot9(b[c], U), g2 = dot9(b[c], K), amb = 0, dir = 0;
+        double a11 = mu->a11[c], a12 = quad_u(M[c], K, mu->finite), a22 = quad(M[c], K, K);
+        double g1 = mu->g1[c], g2 = dot9(b[c], K), amb = 0, dir = 0;
         double det = a11 * a22 - a12 * a12;
         if (det > 1e-300) amb = (a22 * g1 - a12 * g2) / det, dir = (a11 * g2 - a12 * g1) / det;
         if (!(amb >= 0 && dir >= 0)) {
@@ -102,11 +128,13 @@ static double directional_fit(const double M[3][FR_SH_COUNT * FR_SH_COUNT], cons
 static void best_directional(const double M[3][FR_SH_COUNT * FR_SH_COUNT], const double b[3][FR_SH_COUNT],
                              double sh[3][FR_SH_COUNT]) {
     double best = INFINITY, bd[3] = {0, 0, -1}, tmp[3][FR_SH_COUNT];
+    moments_u mu;
+    moments_ambient(M, b, &mu);
     for (int i = 0; i < DIRECTIONS; i++) {
         /* a Fibonacci sphere */
         double z = 1 - (2.0 * i + 1) / DIRECTIONS, r = sqrt(fmax(0, 1 - z * z)), phi = 2.399963229728653 * i;
         double d[3] = {r * cos(phi), r * sin(phi), z};
-        double e = directional_fit(M, b, d, tmp);
+        double e = directional_fit(M, b, &mu, d, tmp);
         if (e < best) best = e, memcpy(bd, d, sizeof bd);
     }
     double step = 0.15;
@@ -118,11 +146,11 @@ static void best_directional(const double M[3][FR_SH_COUNT * FR_SH_COUNT], const
                                centre[2] + a * step / 3 * (fabs(centre[0]) >= 0.9)};
                 double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
                 for (int k = 0; k < 3; k++) d[k] /= l;
-                double e = directional_fit(M, b, d, tmp);
+                double e = directional_fit(M, b, &mu, d, tmp);
                 if (e < best) best = e, memcpy(bd, d, sizeof bd);
             }
     }
-    directional_fit(M, b, bd, sh);
+    directional_fit(M, b, &mu, bd, sh);
 }
 
 /* All nine terms per channel, held to the prior by the ridge. */

@@ -617,6 +617,14 @@ static frig_status expression_init(frig_ctx *ctx, mv *s) {
         s->eoffset[nt] = (int)count;
         if (!pass && !(s->elist = malloc(sizeof(int) * (count + 1)))) return fr_nomem(ctx, "the expression step");
     }
+    /* texel-major for the step (each texel's shapes side by side: one stream through memory) */
+    float *tm = malloc(sizeof(float) * 3 * nt * ((size_t)na + 1));
+    if (!tm) return fr_nomem(ctx, "the expression step");
+    for (int j = 0; j < na; j++)
+        for (size_t t = 0; t < nt; t++)
+            memcpy(tm + 3 * (t * (size_t)na + (size_t)j), s->edX + 3 * (nt * (size_t)j + t), 3 * sizeof(float));
+    free(s->edX);
+    s->edX = tm;
     fr_log(ctx, FRIG_LOG_DEBUG, "sfs: expression step: %d shapes, %.1f per texel", na, (double)count / (nt ? nt : 1));
     s->eg = (fr_sfs_expression_grid){s->nt, s->right, s->down, s->sign, m->shapes, na, s->eshape, s->edX, s->eoffset,
                                      s->elist};

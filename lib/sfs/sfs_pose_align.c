@@ -81,6 +81,9 @@ typedef struct level {
     double *tB;     /* NCH per template cell: the blurred basis */
     double *tP;     /* 3 per template cell: the blurred prediction */
     float *Iw, *Wb; /* the photo warped onto the face cells (times their share) and its blur */
+    int warped;     /* 1: Iw and Wb hold the warp at the pose (wA, wt): a step's equations come at
+                     * the pose its accepted try was warped at */
+    double wA[9], wt[3];
     double sigma_r, sc, w_photo;
     /* the occluding contour, at the crop's resolution (its edges read on the reduced grid) */
     double sigma;
@@ -172,7 +175,7 @@ static void cell_box(const int32_t *cells, int n, int w, int box[4]) {
 static frig_status build_grid(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_view *v, const float *P,
                               const uint8_t *M, level *L) {
     int d = L->d, w = (v->w + d - 1) / d, h = (v->h + d - 1) / d;
-    L->w = w, L->h = h;
+    L->w = w, L->h = h, L->warped = 0;
     L->cam = v->cam;
     L->cam.f /= d, L->cam.scale /= d;
     L->cam.cx = (v->cam.cx - 0.5 * (d - 1)) / d, L->cam.cy = (v->cam.cy - 0.5 * (d - 1)) / d;
@@ -345,13 +348,12 @@ static double contour_terms(const level *L, const double A[9], const double tc[3
     return e;
 }
 
-/* The photometric energy at that pose: the reduced photo sampled at every face cell's new
- * projection, blurred inside the face like the prediction, against it; with H, g when H is given
- * (the warp's derivative through the blurred photo's gradient). */
-static frig_status photo_terms(frig_ctx *ctx, level *L, const double A[9], const double tc[3], double *H, double *g,
-                               double *energy) {
-    *energy = 0;
-    if (!(L->w_photo > 0)) return FRIG_OK;
+/* The reduced photo sampled at every face cell's new projection at the pose mapping q to A q + tc
+ * (times the cell's face share, 0 elsewhere) into Iw, and its blur inside the template's box into
+ * Wb; nothing to do when they hold that pose's already. */
+static frig_status warp(frig_ctx *ctx, level *L, const double A[9], const double tc[3]) {
+    if (L->warped && !memcmp(A, L->wA, sizeof L->wA) && !memcmp(tc, L->wt, sizeof L->wt)) return FRIG_OK;
+    L->warped = 0;
     memset(L->Iw, 0, sizeof(float) * 3 * (size_t)L->w * L->h);
     for (int f = 0; f < L->nf; f++) {
         double q[3], X[3], xy[2], I[3];
@@ -366,6 +368,20 @@ static frig_status photo_terms(frig_ctx *ctx, level *L, const double A[9], const
     }
     frig_status s = fr_gaussian_blur_window(ctx, L->Iw, L->w, L->h, 3, L->sigma_r, L->tbox[0], L->tbox[1], L->tbox[2],
                                             L->tbox[3], L->Wb);
+    if (s) return s;
+    memcpy(L->wA, A, sizeof L->wA), memcpy(L->wt, tc, sizeof L->wt);
+    L->warped = 1;
+    return FRIG_OK;
+}
+
+/* The photometric energy at that pose: the warped photo, blurred inside the face like the
+ * prediction, against it; with H, g when H is given (the warp's derivative through the blurred
+ * photo's gradient). */
+static frig_status photo_terms(frig_ctx *ctx, level *L, const double A[9], const double tc[3], double *H, double *g,
+                               double *energy) {
+    *energy = 0;
+    if (!(L->w_photo > 0)) return FRIG_OK;
+    frig_status s = warp(ctx, L, A, tc);
     if (s) return s;
     double e = 0;
     for (int j = 0; j < L->nt; j++) {
@@ -416,12 +432,12 @@ static frig_status align_terms(frig_ctx *ctx, level *L, const double A[9], const
 static int align_lm(frig_ctx *ctx, level *L, int steps, double A[9], double tc[3], double *scratch) {
     double H[36], g[6], mu = 1e-3, e;
     int taken = 0;
+    /* the turn's centre: the face's mean point at the current pose (decouples turn and shift) */
+    double mq[3] = {0, 0, 0};
+    for (int f = 0; f < L->nf; f++)
+        for (int c = 0; c < 3; c++)
+            mq[c] += L->fq[3 * (size_t)f + c] / L->nf;
     for (int it = 0; it < steps; it++) {
-        /* the turn's centre: the face's mean point at the current pose (decouples turn and shift) */
-        double mq[3] = {0, 0, 0};
-        for (int f = 0; f < L->nf; f++)
-            for (int c = 0; c < 3; c++)
-                mq[c] += L->fq[3 * (size_t)f + c] / L->nf;
         fr_mat3_apply(A, mq, L->pc);
         for (int c = 0; c < 3; c++)
             L->pc[c] += tc[c];

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include <cholmod.h>
+#include <omp.h>
 
 #include "core/context.h"
 #include "sparse/csr.h"
@@ -95,9 +96,15 @@ static fr_cholesky *cholesky_new(void) {
     return ch;
 }
 
-/* Numeric factorization of ch->M into ch->L, with the status as a sentence. */
+/* Numeric factorization of ch->M into ch->L, with the status as a sentence. CHOLMOD's own
+ * OpenMP loops (copies into the supernodes, 4 threads compiled in) run serially: called from a
+ * team of one they started 3 fresh threads per factorization (95k thread starts in an sfs stage
+ * at --threads 1), and their results do not depend on the thread count (BLAS does the work). */
 static frig_status factor_numeric(frig_ctx *ctx, fr_cholesky *ch) {
+    int levels = omp_get_max_active_levels();
+    omp_set_max_active_levels(omp_get_active_level());
     cholmod_factorize(ch->M, ch->L, &ch->cc);
+    omp_set_max_active_levels(levels);
     if (ch->cc.status == CHOLMOD_NOT_POSDEF)
         return fr_error(ctx, FRIG_ERR_NUMERIC, "sparse system of order %d is not positive definite (column %d)",
                         ch->n, (int)ch->L->minor);
