@@ -8,7 +8,11 @@
  * under- or over-exposed. Bar: median <= 1.0 mm, share >= 70%, at most one such cloud.
  * --bands also prints the mean distance by height band of the aligned points (chin and neck, mouth and
  * nose, eyes, forehead) and each band's share of the points.
- * Usage: sfs_holdout SUBJECT_DIR WORKSPACE [SUBJECT_DIR WORKSPACE]... [--verbose] [--bands] */
+ * --normals prints the mean distance by the direction the aligned points' normals face (down, down-ish,
+ * forward, sideways, up); --min-confidence C scores only the points whose confidence is at least C
+ * (how much a stricter region selection would change).
+ * Usage: sfs_holdout SUBJECT_DIR WORKSPACE [SUBJECT_DIR WORKSPACE]... [--verbose] [--bands] [--normals]
+ *        [--min-confidence C] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -42,6 +46,21 @@ static void band_add(const double *pts, const double *d, size_t n, double s, con
         int q = 0;
         while (q < N_BANDS - 1 && y > band_top[q]) q++;
         b->sum[q] += d[k], b->count[q]++;
+    }
+}
+
+static double min_conf = 0;
+static int by_normal = 0;
+/* --normals: the aligned points' distances by the direction their normal faces (up, forward, down...) */
+static double nsum[5];
+static size_t ncount[5];
+static void normal_add(const float *nrm, const double *d, size_t n, const double R[9]) {
+    for (size_t k = 0; k < n; k++) {
+        if (!isfinite(d[k])) continue;
+        const float *v = nrm + 3 * k;
+        double y = R[3] * v[0] + R[4] * v[1] + R[5] * v[2], z = R[6] * v[0] + R[7] * v[1] + R[8] * v[2];
+        int q = y < -0.6 ? 0 : y < -0.3 ? 1 : z > 0.8 ? 2 : y < 0.3 ? 3 : 4;
+        nsum[q] += d[k], ncount[q]++;
     }
 }
 
@@ -89,11 +108,21 @@ static int score_subject(frig_ctx *ctx, const char *subject_dir, const char *ws,
         fr_sfs_mesh_eval(&m, tr.weights, xyz);
         fr_tri_tree *ix = NULL;
         fr_tri_tree_build(ctx, xyz, ftris, nft, &ix);
-        const float *p = frig_clouds_xyz(clouds, i);
+        const float *p = frig_clouds_xyz(clouds, i), *conf = frig_clouds_confidence(clouds, i);
         double *pts = malloc(sizeof(double) * 3 * n), *d = malloc(sizeof(double) * n), s, R[9], t[3];
-        for (size_t k = 0; k < 3 * n; k++) pts[k] = p[k];
+        const float *nr = frig_clouds_normals(clouds, i);
+        float *nk = malloc(sizeof(float) * 3 * n + 1);
+        size_t kept = 0;
+        for (size_t k = 0; k < n; k++)
+            if (conf[k] >= min_conf) {
+                for (int c = 0; c < 3; c++) pts[3 * kept + c] = p[3 * k + c], nk[3 * kept + c] = nr[3 * k + c];
+                kept++;
+            }
+        n = kept;
         fr_cloud_align(ctx, ix, pts, (int)n, 15, 0.01, d, &s, R, t);
         if (bands) band_add(pts, d, n, s, R, t, bands);
+        if (by_normal) normal_add(nk, d, n, R);
+        free(nk);
         int finite = 0;
         for (size_t k = 0; k < n; k++)
             if (isfinite(d[k])) d[finite++] = d[k];
@@ -122,10 +151,13 @@ int main(int argc, char **argv) {
     for (int i = 1; i < argc && pairs < 512; i++) {
         if (!strcmp(argv[i], "--verbose")) verbose = 1;
         else if (!strcmp(argv[i], "--bands")) by_band = 1;
+        else if (!strcmp(argv[i], "--normals")) by_normal = 1;
+        else if (!strcmp(argv[i], "--min-confidence") && i + 1 < argc) min_conf = atof(argv[++i]);
         else args[pairs++] = argv[i];
     }
     if (pairs < 2 || pairs % 2) {
-        fprintf(stderr, "usage: sfs_holdout SUBJECT_DIR WORKSPACE [SUBJECT_DIR WORKSPACE]... [--verbose] [--bands]\n");
+        fprintf(stderr, "usage: sfs_holdout SUBJECT_DIR WORKSPACE [SUBJECT_DIR WORKSPACE]... [--verbose] [--bands] [--normals] "
+                        "[--min-confidence C]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
@@ -152,6 +184,12 @@ int main(int argc, char **argv) {
                        all ? 100.0 * bs.count[q] / all : 0.0);
             printf("\n");
         }
+    }
+    if (by_normal) {
+        static const char *name[5] = {"down", "down-ish", "forward", "sideways", "up"};
+        printf("by the normal's direction, mean mm (points):");
+        for (int q = 0; q < 5; q++) printf(" %s %.3f (%zu)", name[q], ncount[q] ? 1e3 * nsum[q] / ncount[q] : NAN, ncount[q]);
+        printf("\n");
     }
     printf("all subjects: %s\n", pass ? "pass" : "FAIL");
     frig_ctx_free(ctx);

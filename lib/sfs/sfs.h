@@ -27,6 +27,7 @@ typedef struct fr_sfs_settings {
     double min_luma;      /* sfs_failed when the face's median 8-bit luma is below this */
     double min_agreement; /* sfs_failed when the photo's albedo correlates less with the subject's */
     int min_points;       /* sfs_failed with fewer points kept */
+    int cloud_region;     /* 1: cloud points from the narrow face only (no neck, ears, scalp); 0: the face region */
     int texture_size;     /* side of the UV albedo texture written out */
     int shape_size;       /* side of the UV grid of the shared shape */
     int pose;             /* 1: refine the pose against the recovered depth (ICP) */
@@ -133,6 +134,8 @@ frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view 
 /* ---- region selection (eq. 5.15; sfs_region.c) and the pose (sfs_pose.c) ---- */
 /* v->kept and v->confidence from v->err, v->z, v->z_ref (st->e_max, st->d_max_mm). */
 void fr_sfs_select_region(fr_sfs_view *v, const fr_sfs_settings *st);
+/* The kept pixels narrowed to the narrow face (sfs.cloud_region): no neck, ears or scalp. */
+void fr_sfs_region_narrow(fr_sfs_view *v);
 /* The pose (head -> camera) that best fits the rig at the view's weights to its kept points. */
 frig_status fr_sfs_refine_pose(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view *v, double R[9], double t[3]);
 

@@ -4,6 +4,9 @@
  *     inc(x, y) = (E_sfs(x, y) < E_max) && (d(x, y) < d_max),
  * with E_sfs the relative RMS residual |I - a S(n)| / |a S(n)| over the colour channels and d
  * in millimetres. Skin pixels only, one pixel in from the region's edge (mixed pixels there).
+ * fr_sfs_region_narrow then keeps the narrow face's only (sfs.cloud_region, after the pose is
+ * refined on all of them): the neck, ears and scalp are read at grazing angles and under the chin's
+ * shadow, where the points were twice as far off (docs/sfs.md).
  * The confidence falls linearly with both (and with the view's obliquity). */
 #include <math.h>
 #include <string.h>
@@ -35,4 +38,10 @@ void fr_sfs_select_region(fr_sfs_view *v, const fr_sfs_settings *st) {
             double conf = (1.0 - e / st->e_max) * (1.0 - d / st->d_max_mm) * fmin(1.0, c / 0.5);
             v->confidence[i] = (float)(conf < 0 ? 0 : conf > 1 ? 1 : conf);
         }
+}
+
+void fr_sfs_region_narrow(fr_sfs_view *v) {
+    size_t n = (size_t)v->w * v->h;
+    for (size_t i = 0; i < n; i++)
+        if (v->kept[i] && !v->core[i]) v->kept[i] = 0, v->confidence[i] = 0, v->kept_pixels--;
 }

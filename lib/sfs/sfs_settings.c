@@ -33,6 +33,7 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->expression_steps = fr_param_int(ctx, FRIG_PARAM_SFS_EXPRESSION_STEPS);
     s->expression_prior = fr_param(ctx, FRIG_PARAM_SFS_EXPRESSION_PRIOR);
     s->expression_sparse = fr_param(ctx, FRIG_PARAM_SFS_EXPRESSION_SPARSE);
+    s->cloud_region = fr_param_int(ctx, FRIG_PARAM_SFS_CLOUD_REGION);
     s->shape_use = NULL;
 }
 

@@ -46,6 +46,7 @@ static frig_status finish_one(frig_ctx *ctx, size_t k, void *user) {
     if (r->ok[k] && st->pose && v->kept_pixels >= 50) s = fr_sfs_refine_pose(ctx, &r->mesh, v, v->R_refined, v->t_refined);
     if (s) return s;
     v->pose_change_deg = fr_rotation_angle_deg(v->R, v->R_refined);
+    if (!judged_before && st->cloud_region) fr_sfs_region_narrow(v);
     if (r->ok[k] && v->kept_pixels < st->min_points) {
         snprintf(why, sizeof why, "only %d points kept (sfs.min_points %d)", v->kept_pixels, st->min_points);
         r->ok[k] = 0, r->reason[k] = strdup(why);
