@@ -170,7 +170,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_ROUNDS = 601,            /* rounds of the shape shared by all photos (default 6) */
     FRIG_PARAM_SFS_ITERATIONS = 602,        /* Gauss-Newton iterations of each photo's depth (default 3) */
     FRIG_PARAM_SFS_W_NORMAL = 604,          /* smoothness of the normals' change (default 1) */
-    FRIG_PARAM_SFS_W_ANCHOR = 605,          /* eq. 5.13: depth held to the reference depth (default 1) */
+    FRIG_PARAM_SFS_W_ANCHOR = 605,          /* eq. 5.13: depth held to the reference depth (default 100) */
     FRIG_PARAM_SFS_SIGMA = 606,             /* data residual scale, relative intensity (default 0.02) */
     FRIG_PARAM_SFS_E_MAX = 607,             /* eq. 5.15 E_max, relative intensity error (default 0.07) */
     FRIG_PARAM_SFS_D_MAX = 608,             /* eq. 5.15 d_max, mm from the reference depth (default 5) */
