@@ -142,7 +142,7 @@ typedef enum frig_param {
 
     /* fit (sections 4.3-4.4, Algorithm 2) */
     FRIG_PARAM_FIT_W_EXP = 400,             /* expression prior (default 10) */
-    FRIG_PARAM_FIT_W_SPARSE = 401,          /* L1 expression sparsity (default 100) */
+    FRIG_PARAM_FIT_W_SPARSE = 401,          /* L1 expression sparsity (default 1000) */
     FRIG_PARAM_FIT_W_ID = 402,              /* identity prior (default 20) */
     FRIG_PARAM_FIT_ROUNDS = 403,            /* progressive rounds (default 3) */
     FRIG_PARAM_FIT_SUBSET_FIRST = 404,      /* fraction in the first joint fit (default 0.4) */

@@ -115,7 +115,7 @@ static const param_row rows[] = {
     {FRIG_PARAM_SFS_ITERATIONS, "sfs.iterations", 3, 1, 100, 1, "Gauss-Newton iterations of each photo's depth"},
     {FRIG_PARAM_SFS_W_NORMAL, "sfs.w_normal", 1, 0, 1e9, 0,
      "weight keeping the change of the normals smooth (second differences of the depth correction)"},
-    {FRIG_PARAM_SFS_W_ANCHOR, "sfs.w_anchor", 100, 0, 1e9, 0,
+    {FRIG_PARAM_SFS_W_ANCHOR, "sfs.w_anchor", 1000, 0, 1e9, 0,
      "eq. 5.13: weight holding each photo's depth to its reference (the rig with the shared shape; per pixel, depth "
      "in pixels)"},
     {FRIG_PARAM_SFS_SIGMA, "sfs.sigma", 0.02, 1e-4, 1, 0,
