@@ -252,23 +252,6 @@ frig_status fr_cholesky_refactor(frig_ctx *ctx, fr_cholesky *ch, const fr_triple
 
 int fr_cholesky_size(const fr_cholesky *ch) { return ch ? ch->n : 0; }
 
-frig_status fr_cholesky_clone(frig_ctx *ctx, const fr_cholesky *src, fr_cholesky **out) {
-    *out = NULL;
-    fr_cholesky *ch = cholesky_new();
-    if (!ch) return fr_nomem(ctx, "a sparse factorization");
-    ch->n = src->n;
-    /* cholmod_copy_* only read their argument; the casts drop const for CHOLMOD's prototypes. */
-    ch->M = cholmod_copy_sparse((cholmod_sparse *)src->M, &ch->cc);
-    ch->A = src->A ? cholmod_copy_sparse((cholmod_sparse *)src->A, &ch->cc) : NULL;
-    ch->L = cholmod_copy_factor((cholmod_factor *)src->L, &ch->cc);
-    if (!ch->M || !ch->L || (src->A && !ch->A)) {
-        fr_cholesky_free(ch);
-        return fr_nomem(ctx, "a copy of a sparse factorization");
-    }
-    *out = ch;
-    return FRIG_OK;
-}
-
 frig_status fr_cholesky_solve(frig_ctx *ctx, fr_cholesky *ch, int nrhs, const double *B, double *X) {
     cholmod_dense *b = cholmod_allocate_dense((size_t)ch->n, (size_t)nrhs, (size_t)ch->n, CHOLMOD_REAL, &ch->cc);
     if (!b) return fr_nomem(ctx, "a right-hand side");
@@ -337,13 +320,6 @@ frig_status fr_cholesky_create_csr(frig_ctx *ctx, const fr_csr *lower, int simpl
     }
     *out = ch;
     return FRIG_OK;
-}
-
-size_t fr_cholesky_value_count(const fr_cholesky *ch) { return ch && ch->M ? (size_t)((int *)ch->M->p)[ch->n] : 0; }
-
-frig_status fr_cholesky_refactor_values(frig_ctx *ctx, fr_cholesky *ch, const double *values) {
-    memcpy(ch->M->x, values, sizeof(double) * fr_cholesky_value_count(ch));
-    return factor_numeric(ctx, ch);
 }
 
 void fr_cholesky_free(fr_cholesky *ch) {

@@ -36,10 +36,6 @@ frig_status fr_cholesky_refactor(frig_ctx *ctx, fr_cholesky *ch, const fr_triple
 
 int fr_cholesky_size(const fr_cholesky *ch);
 
-/* A copy with its own CHOLMOD workspace (the analysis and current factor included), so that
- * several threads can refactor and solve systems of one pattern at once, analyzed once. */
-frig_status fr_cholesky_clone(frig_ctx *ctx, const fr_cholesky *src, fr_cholesky **out);
-
 /* Solve M X = B, M the factored n x n matrix, B and X n x nrhs column-major (may alias). */
 frig_status fr_cholesky_solve(frig_ctx *ctx, fr_cholesky *ch, int nrhs, const double *B, double *X);
 
@@ -48,17 +44,13 @@ frig_status fr_cholesky_solve_lsq(frig_ctx *ctx, fr_cholesky *ch, int nrhs, cons
 
 void fr_cholesky_free(fr_cholesky *ch);
 
-/* A symmetric system whose pattern is fixed and whose values change: 'lower' is a square CSR
- * matrix of which the entries with column <= row are used (its values too, for a first
- * factorization). fr_cholesky_refactor_values then takes new values in the same order (one
- * per such entry) without any conversion. simplicial: a simplicial (column by column) factor
+/* A symmetric system from a square CSR matrix of which the entries with column <= row are used
+ * (the test's reference for sparse/frontal.h, which took its one caller, the mesh's Laplacian
+ * deformations). simplicial: a simplicial (column by column) factor
  * instead of CHOLMOD's choice, for small systems refactored many times (the supernodal one's
  * BLAS calls and workspace cost more than they save there: a 9,409-vertex mesh Laplacian with
  * 222,000 factor entries factors about 25% faster). */
 struct fr_csr;
 frig_status fr_cholesky_create_csr(frig_ctx *ctx, const struct fr_csr *lower, int simplicial, fr_cholesky **out);
-frig_status fr_cholesky_refactor_values(frig_ctx *ctx, fr_cholesky *ch, const double *values);
-/* Number of values fr_cholesky_refactor_values takes. */
-size_t fr_cholesky_value_count(const fr_cholesky *ch);
 
 #endif
