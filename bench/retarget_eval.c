@@ -7,7 +7,7 @@
  * stage with the new rig, retarget; else the clouds stay), with each
  * round's time, the expression-weight error against the truth and the correspondence figures.
  * Usage: retarget_eval MODEL WORKSPACE [--rounds N] [--threads T] [--set NAME=VALUE]...
- *                      [--sfs] [--where] [--cloud-error] [--save RIG] [--quiet] */
+ *                      [--sfs] [--where] [--cloud-error] [--oracle | --oracle-vertices N] [--save RIG] [--quiet] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -393,10 +393,10 @@ static void identity_report(frig_ctx *ctx, const frig_model *model, frig_photose
 }
 
 /* Oracle: the identity fit to the true neutral itself (every face vertex a cloud point with its
- * normal), one "photo" with no expression; tells what the surface alone says about the
- * identity. */
+ * normal, or the first oracle_vertices of them: 6706 is the narrow face the sfs clouds keep), one
+ * "photo" with no expression; tells what the surface alone says about the identity. */
 static void oracle_report(frig_ctx *ctx, const frig_model *model, const frig_photoset *set, const frig_rig *rig0,
-                          const frig_rig *truth, int nf, const double *wtrue) {
+                          const frig_rig *truth, int nf, const double *wtrue, int oracle_vertices) {
     fr_rt_settings s;
     fr_rt_settings_from_ctx(ctx, &s);
     s.landmark_sigma = 0;
@@ -413,7 +413,8 @@ static void oracle_report(frig_ctx *ctx, const frig_model *model, const frig_pho
     p.scale = 1;
     p.pick = malloc(sizeof(int) * nf);
     p.hint = malloc(sizeof(int) * nf);
-    for (int v = 0; v < nf; v++) if (!m.rim[v]) p.hint[p.n_pick] = -1, p.pick[p.n_pick++] = v;
+    int lim = oracle_vertices > 0 && oracle_vertices < nf ? oracle_vertices : nf;
+    for (int v = 0; v < lim; v++) if (!m.rim[v]) p.hint[p.n_pick] = -1, p.pick[p.n_pick++] = v;
     int K = 1, fit_shape[1] = {0};
     p.w = calloc(2, sizeof(double));
     double *id = NULL;
@@ -459,7 +460,7 @@ int main(int argc, char **argv) {
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
-    int rounds = 3, threads = 0, quiet = 0, corr = 0, id_steps = 0, limit = 0, sfs = 0, where = 0;
+    int rounds = 3, threads = 0, quiet = 0, corr = 0, id_steps = 0, limit = 0, sfs = 0, where = 0, oracle_vertices = 0;
     const char *save = NULL, *sheet = NULL, *ws = argv[2];
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--rounds") && i + 1 < argc) rounds = atoi(argv[++i]);
@@ -471,6 +472,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--where")) where = 1;
         else if (!strcmp(argv[i], "--correspondence")) corr = 1;
         else if (!strcmp(argv[i], "--oracle")) corr = 2;
+        else if (!strcmp(argv[i], "--oracle-vertices") && i + 1 < argc) corr = 2, oracle_vertices = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--cloud-error")) corr = 3;
         else if (!strcmp(argv[i], "--identity") && i + 1 < argc) id_steps = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--limit") && i + 1 < argc) limit = atoi(argv[++i]);
@@ -534,7 +536,7 @@ int main(int argc, char **argv) {
         wtrue = NULL;
     }
     if (!quiet) frig_ctx_set_log(ctx, log_line, NULL, getenv("RETARGET_EVAL_DEBUG") ? FRIG_LOG_DEBUG : FRIG_LOG_ERROR);
-    if (corr == 2 && wtrue) oracle_report(ctx, model, set, rig, truth, nf, wtrue);
+    if (corr == 2 && wtrue) oracle_report(ctx, model, set, rig, truth, nf, wtrue, oracle_vertices);
     if (corr == 3) cloud_error_report(ctx, set, clouds, truth, nf);
     if (id_steps) identity_report(ctx, model, set, clouds, rig, truth, nf, id_steps, wtrue);
     if (corr == 1) correspondence_report(ctx, model, set, clouds, rig, truth, nf);

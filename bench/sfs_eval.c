@@ -19,9 +19,14 @@
  * --truth-pose replaces the fit's pose and camera by the truth's (--truth-weights the
  * expression weights too; --truth-expression the weights alone, with the fit's pose and camera): where
  * the error lives.
+ * --in-span MODEL starts from the model at the subject's true identity (only the out-of-span offset
+ * to recover), --truth-neutral from the true neutral, --truth-rig from the whole true rig: with
+ * --truth-weights, what the shared shape adds to a rig that needs nothing (docs/sfs.md);
+ * --dump-neutral PATH writes the rig's neutral with the shared displacement as OBJ vertices.
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
  *                 [--truth-weights] [--truth-expression] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo]
- *                 [--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] [--pose-noise DEG] */
+ *                 [--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] [--pose-noise DEG]
+ *                 [--in-span MODEL | --truth-neutral | --truth-rig] [--dump-neutral PATH] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -147,6 +152,38 @@ static double common_turn_error(const double *R, const double *Rtrue, int rows, 
     return 57.29578 * sqrt(wm[0] * wm[0] + wm[1] * wm[1] + wm[2] * wm[2]);
 }
 
+/* --in-span MODEL: the rig's neutral becomes the model at the subject's true identity (the
+ * truth projected on the model's span), so that only the out-of-span offset is left to recover. */
+static int set_in_span(frig_ctx *ctx, const char *model_path, const char *subject_dir, frig_rig *rig) {
+    frig_model *model = NULL;
+    if (frig_model_load(ctx, model_path, &model)) return 1;
+    char path[4096];
+    snprintf(path, sizeof path, "%s/subject.json", subject_dir);
+    char *text = bench_read_all(path, NULL);
+    cJSON *root = text ? cJSON_Parse(text) : NULL;
+    free(text);
+    const cJSON *a = root ? cJSON_GetObjectItemCaseSensitive(root, "identity") : NULL;
+    int n = frig_model_identity_count(model), nv = frig_model_vertex_count(model);
+    double *w = calloc((size_t)n + 1, sizeof(double));
+    float *x = malloc(sizeof(float) * 3 * (size_t)nv);
+    int ok = cJSON_IsArray(a) && w && x && nv == frig_rig_vertex_count(rig);
+    for (int k = 0; ok && k < n && k < cJSON_GetArraySize(a); k++) w[k] = cJSON_GetArrayItem(a, k)->valuedouble;
+    ok = ok && !frig_model_eval(ctx, model, w, NULL, x) && !frig_rig_set_neutral(ctx, rig, x);
+    if (!ok) fprintf(stderr, "--in-span: no identity in %s or the model does not fit the rig\n", path);
+    cJSON_Delete(root);
+    free(w), free(x);
+    frig_model_free(model);
+    return !ok;
+}
+
+/* --dump-neutral PATH: vertices as OBJ v lines (metres), for outside tools. */
+static void write_vertices(const char *path, const float *x, int nv) {
+    FILE *f = fopen(path, "w");
+    if (!f) return;
+    for (int q = 0; q < nv; q++) fprintf(f, "v %.7f %.7f %.7f\n", x[3 * q], x[3 * q + 1], x[3 * q + 2]);
+    fclose(f);
+}
+
 static void log_stderr(void *user, frig_log_level level, const char *msg) {
     (void)user, (void)level;
     fprintf(stderr, "%s\n", msg);
@@ -165,6 +202,8 @@ int main(int argc, char **argv) {
     int truth_pose = 0, truth_weights = 0, quiet = 0, pose_steps = -1, joint_albedo = -1, shape_iterations = -1;
     double w_stereo = -1, shape_sigma = -1, oracle_deg = 0, pose_noise = 0, pose_sigma = -1;
     int pose_levels = -1;
+    const char *in_span_model = NULL, *dump_neutral = NULL;
+    int truth_neutral = 0;
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
             if (bench_set_param(ctx, argv[++i])) return 2;
@@ -183,6 +222,10 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--shape-sigma") && i + 1 < argc) shape_sigma = atof(argv[++i]);
         else if (!strcmp(argv[i], "--pose-levels") && i + 1 < argc) pose_levels = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--pose-sigma") && i + 1 < argc) pose_sigma = atof(argv[++i]);
+        else if (!strcmp(argv[i], "--in-span") && i + 1 < argc) in_span_model = argv[++i];
+        else if (!strcmp(argv[i], "--dump-neutral") && i + 1 < argc) dump_neutral = argv[++i];
+        else if (!strcmp(argv[i], "--truth-neutral")) truth_neutral = 1;
+        else if (!strcmp(argv[i], "--truth-rig")) truth_neutral = 2;
         else {
             fprintf(stderr, "unknown argument %s\n", argv[i]);
             return 2;
@@ -191,12 +234,14 @@ int main(int argc, char **argv) {
     char path[4096];
     frig_rig *rig = NULL, *truth_rig = NULL;
     frig_photoset *set = NULL;
-    snprintf(path, sizeof path, "%s/rig/rig.frigrig", argv[2]);
+    snprintf(path, sizeof path, "%s/rig/rig.frigrig", truth_neutral == 2 ? argv[1] : argv[2]);
     if (frig_rig_load(ctx, path, &rig)) goto fail;
     snprintf(path, sizeof path, "%s/rig/rig.frigrig", argv[1]);
     if (frig_rig_load(ctx, path, &truth_rig)) goto fail;
     if (frig_photoset_load(ctx, argv[2], &set)) goto fail;
     if (truth_pose || truth_weights) set_truth_fits(truth_rig, set, truth_pose, truth_weights, pose_noise);
+    if (in_span_model && set_in_span(ctx, in_span_model, argv[1], rig)) goto fail;
+    if (truth_neutral == 1 && frig_rig_set_neutral(ctx, rig, frig_rig_neutral(truth_rig))) goto fail;
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
     if (w_stereo >= 0) st.w_stereo = w_stereo;
@@ -248,6 +293,7 @@ int main(int argc, char **argv) {
         printf("neutral error along the true normals / tangential (mean |part|): rig %.3f / %.3f mm, with the shared "
                "displacement %.3f / %.3f mm\n", n0, t0s, n1, t1s);
         free(tn);
+        if (dump_neutral) write_vertices(dump_neutral, a, nv);
         free(a), free(nr);
     }
     fr_sfs_mesh tm;

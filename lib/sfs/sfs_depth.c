@@ -1,11 +1,16 @@
 /* Normals and depth from shading (paper eq. 5.6-5.13, Algorithm 4 lines 12-13 and 17-18),
  * solved in the depth: the unknown is the log-depth g = f ln z of every face pixel (f the
  * crop's focal length in pixels, so g is in pixels), the normal of pixel i comes from the
- * forward differences P = g(x+1) - g(x), Q = g(y+1) - g(y) through the perspective camera,
- *     n ~ (P, Q, -(1 + rx P + ry Q)),   (rx, ry) = ((x - cx) / f, (y - cy) / f),
+ * central differences P = (g(x+1) - g(x-1)) / 2, Q = (g(y+1) - g(y-1)) / 2 (one-sided at the
+ * face's edge) through the perspective camera,
+ *     n ~ (P, Q, -(1 + rx P + ry Q)) + K_i,   (rx, ry) = ((x - cx) / f, (y - cy) / f),
  * (eq. 5.2 and 5.9-5.10 for a pinhole instead of an orthographic camera), so every normal
  * field the solver produces is integrable (eq. 5.8's E_int is zero by construction, as in the
- * author's own code, which optimizes depth directly). Minimized by Gauss-Newton with
+ * author's own code, which optimizes depth directly). K_i makes the normal at the reference depth
+ * the reference's own (the rig drawn with its interpolated normals and the shared shape: the
+ * shading the shared solve explained), so the correction starts where the shared solve left off;
+ * differences centred on the pixel compare each normal with its own pixel (forward differences
+ * put it half a pixel off, sfs_texel_normal.h). Minimized by Gauss-Newton with
  * Levenberg-Marquardt damping:
  *     sum_i rho(|a_i S(n_i) - I_i| / (sigma Ibar_i))                      (eq. 5.7)
  *   + w_normal sum |second differences of (g - g_ref)|^2                  (eq. 5.8's E_normal)
@@ -31,6 +36,7 @@ typedef struct problem {
     int *idx;           /* pixel -> unknown, -1 */
     int *pix;           /* unknown -> pixel */
     uint8_t *right, *down; /* edge to the right / below links two unknowns */
+    float *K;           /* 3 per pixel: the normal's constant (0 without a reference normal) */
     uint8_t *data;      /* pixel has a data term */
     double *g, *g_ref, *g_try, *delta, *rhs;
     double *robust;     /* per pixel */
@@ -41,16 +47,49 @@ typedef struct problem {
 } problem;
 
 static void problem_free(problem *p) {
-    free(p->idx), free(p->pix), free(p->right), free(p->down), free(p->data);
+    free(p->idx), free(p->pix), free(p->right), free(p->down), free(p->data), free(p->K);
     free(p->g), free(p->g_ref), free(p->g_try), free(p->delta), free(p->rhs), free(p->robust), free(p->damped);
 }
 
-/* Normal of pixel i from g, and optionally d n / d P, d n / d Q (each 3). Returns |m|. */
-static void normal_of(const problem *p, const double *g, int i, double n[3], double dnP[3], double dnQ[3]) {
-    int x = i % p->w, y = i / p->w;
+/* The ends of pixel i's differences: left or i, right or i, up or i, down or i (linked pixels);
+ * 0 when a direction has neither neighbour (no normal). */
+static int ends(const problem *p, size_t i, size_t e[4]) {
+    int x = (int)(i % p->w), y = (int)(i / p->w);
+    e[0] = x > 0 && p->right[i - 1] ? i - 1 : i;
+    e[1] = p->right[i] ? i + 1 : i;
+    e[2] = y > 0 && p->down[i - p->w] ? i - p->w : i;
+    e[3] = p->down[i] ? i + p->w : i;
+    return e[0] != e[1] && e[2] != e[3];
+}
+
+/* The stencil of pixel i's normal: its unknowns [i, left, right, up, down] (-1 where the
+ * difference is one-sided there: that end is i), and d P, d Q by each. */
+static void stencil(const problem *p, size_t i, const size_t e[4], int u[5], double dP[5], double dQ[5]) {
+    double sx = e[1] - e[0] == 2 ? 0.5 : 1.0, sy = e[3] - e[2] == 2 * (size_t)p->w ? 0.5 : 1.0;
+    u[0] = p->idx[i];
+    for (int k = 0; k < 4; k++) u[1 + k] = e[k] != i ? p->idx[e[k]] : -1;
+    for (int k = 0; k < 5; k++) dP[k] = dQ[k] = 0;
+    dP[e[0] != i ? 1 : 0] -= sx, dP[e[1] != i ? 2 : 0] += sx;
+    dQ[e[2] != i ? 3 : 0] -= sy, dQ[e[3] != i ? 4 : 0] += sy;
+}
+
+/* The unnormalized normal m of pixel i (with its constant K) from g and its ends. */
+static void normal_m(const problem *p, const double *g, size_t i, const size_t e[4], double m[3]) {
+    int x = (int)(i % p->w), y = (int)(i / p->w);
     double rx = (x - p->cx) / p->f, ry = (y - p->cy) / p->f;
-    double P = g[p->idx[i + 1]] - g[p->idx[i]], Q = g[p->idx[i + p->w]] - g[p->idx[i]];
-    double m[3] = {P, Q, -(1.0 + rx * P + ry * Q)};
+    double P = (g[p->idx[e[1]]] - g[p->idx[e[0]]]) / (double)(e[1] - e[0]);
+    double Q = (g[p->idx[e[3]]] - g[p->idx[e[2]]]) / (double)((e[3] - e[2]) / (size_t)p->w);
+    m[0] = P, m[1] = Q, m[2] = -(1.0 + rx * P + ry * Q);
+    for (int k = 0; k < 3; k++) m[k] += p->K[3 * i + k];
+}
+
+/* Normal of pixel i from g, and optionally d n / d P, d n / d Q (each 3). */
+static void normal_of(const problem *p, const double *g, int i, double n[3], double dnP[3], double dnQ[3]) {
+    size_t e[4];
+    ends(p, (size_t)i, e);
+    int x = i % p->w, y = i / p->w;
+    double rx = (x - p->cx) / p->f, ry = (y - p->cy) / p->f, m[3];
+    normal_m(p, g, (size_t)i, e, m);
     double len = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
     for (int k = 0; k < 3; k++) n[k] = m[k] / len;
     if (!dnP) return;
@@ -94,7 +133,8 @@ static void data_residual(const problem *p, const double *g, int i, double r[3],
 
 /* The normal prior applies where the normal is defined and a prior is given. */
 static int has_prior(const problem *p, size_t i) {
-    if (!(p->w_prior > 0) || !p->right[i] || !p->down[i]) return 0;
+    size_t e[4];
+    if (!(p->w_prior > 0) || !ends(p, i, e)) return 0;
     const float *q = p->prior + 3 * i;
     return q[0] != 0 || q[1] != 0 || q[2] != 0;
 }
@@ -150,6 +190,15 @@ static frig_status add(frig_ctx *ctx, fr_triplets *t, int a, int b, double v) {
     return a >= b ? fr_triplets_add(ctx, t, a, b, v) : fr_triplets_add(ctx, t, b, a, v);
 }
 
+/* A pixel's 5 x 5 block (upper triangle, row by row) over its stencil u, times w. */
+static frig_status add_stencil(frig_ctx *ctx, fr_triplets *t, const int u[5], double w, const double H[15]) {
+    frig_status s = FRIG_OK;
+    for (int a = 0, h = 0; a < 5 && !s; a++)
+        for (int b = a; b < 5 && !s; b++, h++)
+            if (u[a] >= 0 && u[b] >= 0) s = add(ctx, t, u[a], u[b], w * H[h]);
+    return s;
+}
+
 /* Normal equations at g (robust weights fixed from the residuals at g), damped by mu. The
  * triplets come in the same order every time, so the pattern never changes; set_damping
  * changes mu alone (the same triplets as assembling again with the new mu). */
@@ -160,42 +209,39 @@ static frig_status assemble(frig_ctx *ctx, problem *p, double mu, fr_triplets *t
     size_t np = (size_t)p->w * p->h;
     for (size_t i = 0; i < np && !s; i++) {
         if (!has_prior(p, i)) continue;
-        double n[3], nP[3], nQ[3];
+        double n[3], nP[3], nQ[3], sP[5], sQ[5], H[15] = {0};
+        size_t e[4];
+        int u[5];
+        ends(p, i, e);
+        stencil(p, i, e, u, sP, sQ);
         normal_of(p, p->g, (int)i, n, nP, nQ);
-        int u[3] = {p->idx[i], p->idx[i + 1], p->idx[i + p->w]};
-        double H[6] = {0};
         for (int k = 0; k < 3; k++) {
-            double r = n[k] - p->prior[3 * i + k], j[3] = {-(nP[k] + nQ[k]), nP[k], nQ[k]};
-            H[0] += j[0] * j[0], H[1] += j[1] * j[0], H[2] += j[2] * j[0];
-            H[3] += j[1] * j[1], H[4] += j[2] * j[1], H[5] += j[2] * j[2];
-            for (int q = 0; q < 3; q++) p->rhs[u[q]] -= p->w_prior * j[q] * r;
+            double r = n[k] - p->prior[3 * i + k], j[5];
+            for (int a = 0; a < 5; a++) j[a] = nP[k] * sP[a] + nQ[k] * sQ[a];
+            for (int a = 0, h = 0; a < 5; a++)
+                for (int b = a; b < 5; b++, h++) H[h] += j[a] * j[b];
+            for (int a = 0; a < 5; a++)
+                if (u[a] >= 0) p->rhs[u[a]] -= p->w_prior * j[a] * r;
         }
-        s = add(ctx, t, u[0], u[0], p->w_prior * H[0]);
-        if (!s) s = add(ctx, t, u[1], u[0], p->w_prior * H[1]);
-        if (!s) s = add(ctx, t, u[2], u[0], p->w_prior * H[2]);
-        if (!s) s = add(ctx, t, u[1], u[1], p->w_prior * H[3]);
-        if (!s) s = add(ctx, t, u[2], u[1], p->w_prior * H[4]);
-        if (!s) s = add(ctx, t, u[2], u[2], p->w_prior * H[5]);
+        s = add_stencil(ctx, t, u, p->w_prior, H);
     }
     for (size_t i = 0; i < np && !s; i++) {
         if (!p->data[i]) continue;
-        double r[3], dP[3], dQ[3];
+        double r[3], dP[3], dQ[3], sP[5], sQ[5], H[15] = {0};
+        size_t e[4];
+        int u[5];
+        ends(p, i, e);
+        stencil(p, i, e, u, sP, sQ);
         data_residual(p, p->g, (int)i, r, dP, dQ);
-        int u[3] = {p->idx[i], p->idx[i + 1], p->idx[i + p->w]};
-        double H[6] = {0}; /* (0,0) (1,0) (2,0) (1,1) (2,1) (2,2) */
         for (int c = 0; c < 3; c++) {
-            double uu = r[c] / TUKEY_C, wgt = fabs(uu) < 1 ? (1 - uu * uu) * (1 - uu * uu) : 0;
-            double j[3] = {-(dP[c] + dQ[c]), dP[c], dQ[c]};
-            H[0] += wgt * j[0] * j[0], H[1] += wgt * j[1] * j[0], H[2] += wgt * j[2] * j[0];
-            H[3] += wgt * j[1] * j[1], H[4] += wgt * j[2] * j[1], H[5] += wgt * j[2] * j[2];
-            for (int k = 0; k < 3; k++) p->rhs[u[k]] -= wgt * j[k] * r[c];
+            double uu = r[c] / TUKEY_C, wgt = fabs(uu) < 1 ? (1 - uu * uu) * (1 - uu * uu) : 0, j[5];
+            for (int a = 0; a < 5; a++) j[a] = dP[c] * sP[a] + dQ[c] * sQ[a];
+            for (int a = 0, h = 0; a < 5; a++)
+                for (int b = a; b < 5; b++, h++) H[h] += wgt * j[a] * j[b];
+            for (int a = 0; a < 5; a++)
+                if (u[a] >= 0) p->rhs[u[a]] -= wgt * j[a] * r[c];
         }
-        s = add(ctx, t, u[0], u[0], H[0]);
-        if (!s) s = add(ctx, t, u[1], u[0], H[1]);
-        if (!s) s = add(ctx, t, u[2], u[0], H[2]);
-        if (!s) s = add(ctx, t, u[1], u[1], H[3]);
-        if (!s) s = add(ctx, t, u[2], u[1], H[4]);
-        if (!s) s = add(ctx, t, u[2], u[2], H[5]);
+        s = add_stencil(ctx, t, u, 1.0, H);
     }
     for (int u = 0; u < p->n && !s; u++) {
         int i = p->pix[u], nb[3];
@@ -232,9 +278,9 @@ static frig_status setup(frig_ctx *ctx, const fr_sfs_view *v, const uint8_t *dat
     p->g = malloc(sizeof(double) * np), p->g_ref = malloc(sizeof(double) * np);
     p->g_try = malloc(sizeof(double) * np), p->delta = malloc(sizeof(double) * np);
     p->rhs = malloc(sizeof(double) * np), p->robust = malloc(sizeof(double) * np);
-    p->damped = malloc(sizeof(size_t) * np);
+    p->damped = malloc(sizeof(size_t) * np), p->K = calloc(3 * np, sizeof(float));
     if (!p->idx || !p->pix || !p->right || !p->down || !p->data || !p->g || !p->g_ref || !p->g_try || !p->delta ||
-        !p->rhs || !p->robust || !p->damped)
+        !p->rhs || !p->robust || !p->damped || !p->K)
         return fr_nomem(ctx, "the depth solver");
     p->I = v->I, p->albedo = v->albedo;
     memcpy(p->sh, v->sh, sizeof p->sh);
@@ -256,7 +302,21 @@ static frig_status setup(frig_ctx *ctx, const fr_sfs_view *v, const uint8_t *dat
         if (y + 1 < p->h && p->idx[i + p->w] >= 0 && fabs(p->g_ref[p->idx[i + p->w]] - p->g_ref[u]) < JUMP_PX)
             p->down[i] = 1;
     }
-    for (size_t i = 0; i < np; i++) p->data[i] = data_mask[i] && p->right[i] && p->down[i];
+    /* K: at the reference depth, the reference's normal (where the view has one) */
+    for (size_t i = 0; i < np; i++) {
+        size_t e[4];
+        const float *nr = v->n_ref ? v->n_ref + 3 * i : NULL;
+        if (p->idx[i] < 0 || !ends(p, i, e) || !nr || !(nr[0] != 0 || nr[1] != 0 || nr[2] != 0)) continue;
+        double m[3];
+        normal_m(p, p->g_ref, i, e, m); /* K is 0 here */
+        double l = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]), ln = sqrt(nr[0] * nr[0] + nr[1] * nr[1] + nr[2] * nr[2]);
+        if (!(l > 0) || !(ln > 0) || nr[0] * m[0] + nr[1] * m[1] + nr[2] * m[2] <= 0) continue;
+        for (int k = 0; k < 3; k++) p->K[3 * i + k] = (float)(l * nr[k] / ln - m[k]);
+    }
+    for (size_t i = 0; i < np; i++) {
+        size_t e[4];
+        p->data[i] = data_mask[i] && p->idx[i] >= 0 && ends(p, i, e);
+    }
     return FRIG_OK;
 }
 
@@ -320,7 +380,8 @@ frig_status fr_sfs_solve_depth(frig_ctx *ctx, fr_sfs_view *v, const uint8_t *dat
             int u = p.idx[i];
             if (u < 0) continue;
             v->z[i] = (float)exp(p.g[u] / p.f);
-            if (!(p.right[i] && p.down[i])) continue;
+            size_t e[4];
+            if (!ends(&p, i, e)) continue;
             double n[3];
             normal_of(&p, p.g, (int)i, n, NULL, NULL);
             for (int k = 0; k < 3; k++) v->normal[3 * i + k] = (float)n[k];

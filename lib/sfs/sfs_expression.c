@@ -7,7 +7,8 @@
  * displacement, albedo and k's lighting held, the weights minimize
  *     1/W sum_t w_t sum_c rho((a_c(t) S_kc(R_k N_k(t)) - I_kc(proj(R_k P_k(t) + t_k))) / (sigma Ibar))
  *   + prior sum_j (w_j - w0_j)^2 + sparse sum_j w_j,   0 <= w_j <= 1,
- * N_k from the texel grid's forward differences of P_k (as the shared solve's normals), the
+ * N_k from the texel grid's central secants of P_k (as the shared solve's normals:
+ * sfs_texel_normal.h, its constant K held), the
  * photo sampled at the moved point (its gradients: the multi-view term), rho Tukey's, W the
  * seen texels' weight: Gauss-Newton with Levenberg-Marquardt damping, each step a bounded
  * quadratic program (linalg/box_qp.c) over the shapes that move the face. The normal n_k of
@@ -21,28 +22,27 @@
 #include "raster/raster.h"
 #include "sfs/sfs_expression.h"
 #include "sfs/sfs_multiview.h"
+#include "sfs/sfs_texel_normal.h"
 #include "sfs/sfs_uv.h"
 
 #define INTENSITY_FLOOR 0.03
 #define MM 1e-3
 
-static void cross(const double a[3], const double b[3], double c[3]) {
-    c[0] = a[1] * b[2] - a[2] * b[1], c[1] = a[2] * b[0] - a[0] * b[2], c[2] = a[0] * b[1] - a[1] * b[0];
-}
+#define cross fr_sfs_cross
 
-/* The points of texel t and of its right and down neighbours r, d at weight change dw (active
- * shapes; those of t's list L, nl of them, the only ones that move them), each summed in the list's
- * order. */
-static void points(const fr_sfs_expression_grid *g, const fr_sfs_expression_photo *p, const double *dw, const int u[3],
-                   const int *L, int nl, double P[3][3]) {
-    for (int c = 0; c < 3; c++)
+/* The points of texel t and of its secants' ends (left or t, right or t, up or t, down or t) at
+ * weight change dw (active shapes; those of t's list L, nl of them, the only ones that move them),
+ * each summed in the list's order: P[0] the texel's, P[1 + e] the ends'. */
+static void points(const fr_sfs_expression_grid *g, const fr_sfs_expression_photo *p, const double *dw, const int u[5],
+                   const int *L, int nl, double P[5][3]) {
+    for (int c = 0; c < 5; c++)
         for (int q = 0; q < 3; q++)
             P[c][q] = p->X[3 * (size_t)u[c] + q] + p->D[u[c]] * MM * p->n[3 * (size_t)u[c] + q];
     for (int a = 0; a < nl; a++) {
         int j = L[a];
         if (dw[j] == 0)
             continue;
-        for (int c = 0; c < 3; c++) {
+        for (int c = 0; c < 5; c++) {
             const float *d = g->dX + 3 * ((size_t)u[c] * g->active + (size_t)j);
             for (int q = 0; q < 3; q++)
                 P[c][q] += dw[j] * d[q];
@@ -112,23 +112,26 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
     if (H)
         memset(H, 0, sizeof(double) * (size_t)na * na), memset(gr, 0, sizeof(double) * (size_t)na);
     for (int t = 0; t < g->nt; t++) {
-        int r = g->right[t], d = g->down[t];
-        if (!(p->w[t] > 0) || r < 0 || d < 0)
+        int e4[4];
+        if (!(p->w[t] > 0) || !fr_sfs_secant_ends(&g->grid, t, e4))
             continue;
-        double P[3][3], ex[3], ey[3], c[3];
-        const int *L = g->list + g->offset[t], u[3] = {t, r, d};
+        double P[5][3], ex[3], ey[3], c[3];
+        const int *L = g->list + g->offset[t], u[5] = {t, e4[0], e4[1], e4[2], e4[3]};
         int nl = g->offset[t + 1] - g->offset[t];
         points(g, p, dw, u, L, nl, P);
-        const double *P0 = P[0], *Pr = P[1], *Pd = P[2];
+        const double *P0 = P[0];
         for (int q = 0; q < 3; q++)
-            ex[q] = Pr[q] - P0[q], ey[q] = Pd[q] - P0[q];
+            ex[q] = P[2][q] - P[1][q], ey[q] = P[4][q] - P[3][q];
         cross(ex, ey, c);
+        double sg = g->sign[t], N[3];
+        const float *K = p->K + 3 * (size_t)t;
+        for (int q = 0; q < 3; q++)
+            c[q] = sg * c[q] + K[q];
         double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
         if (!(l > 0))
             continue;
-        double sg = g->sign[t], N[3];
         for (int q = 0; q < 3; q++)
-            N[q] = sg * c[q] / l;
+            N[q] = c[q] / l;
         double S[3], G[3][3], I[3], gx[3] = {0, 0, 0}, gy[3] = {0, 0, 0}, Jp[6] = {0, 0, 0, 0, 0, 0};
         fr_sfs_shade_head(v, N, S, H ? G : NULL);
         const float *I0 = p->I + 3 * (size_t)t;
@@ -163,17 +166,19 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
             for (int a = 0; a < nl; a++) {
                 int j = L[a];
                 const float *d0 = g->dX + 3 * ((size_t)t * na + (size_t)j);
-                const float *dr = g->dX + 3 * ((size_t)r * na + (size_t)j);
-                const float *dd = g->dX + 3 * ((size_t)d * na + (size_t)j);
+                const float *dl = g->dX + 3 * ((size_t)e4[0] * na + (size_t)j);
+                const float *dr = g->dX + 3 * ((size_t)e4[1] * na + (size_t)j);
+                const float *du = g->dX + 3 * ((size_t)e4[2] * na + (size_t)j);
+                const float *dd = g->dX + 3 * ((size_t)e4[3] * na + (size_t)j);
                 double dex[3], dey[3], c1[3], c2[3], dc[3];
                 for (int q = 0; q < 3; q++)
-                    dex[q] = dr[q] - d0[q], dey[q] = dd[q] - d0[q], sc->dP[3 * a + q] = d0[q];
+                    dex[q] = dr[q] - dl[q], dey[q] = dd[q] - du[q], sc->dP[3 * a + q] = d0[q];
                 cross(dex, ey, c1), cross(ex, dey, c2);
                 for (int q = 0; q < 3; q++)
-                    dc[q] = c1[q] + c2[q];
+                    dc[q] = sg * (c1[q] + c2[q]);
                 double proj = dc[0] * N[0] + dc[1] * N[1] + dc[2] * N[2];
                 for (int q = 0; q < 3; q++)
-                    sc->dN[3 * a + q] = sg * (dc[q] - proj * N[q]) / l;
+                    sc->dN[3 * a + q] = (dc[q] - proj * N[q]) / l;
             }
         }
         double res[3], w[3];

@@ -3,8 +3,9 @@
  * photometric stereo): the unknown is one displacement D(t) per face texel t along the rig's
  * normal, shared by all photos, so photo k sees the surface
  *     P_k(t) = X_k(t) + D(t) n_k(t)
- * (X_k, n_k: the rig at photo k's expression, head frame), whose normal comes from the texel
- * grid's forward differences, N_k(t) ~ (P_k(t+x) - P_k(t)) x (P_k(t+y) - P_k(t)). Minimized by
+ * (X_k, n_k: the rig at photo k's expression, head frame), whose normal N_k(t) comes from the
+ * texel grid's central secants, centred on t and equal to n_k(t) at D = 0 (sfs_texel_normal.h).
+ * Minimized by
  * Gauss-Newton with Levenberg-Marquardt damping:
  *     sum_k sum_t sum_c rho((a_c(t) S_kc(R_k N_k(t)) - I_kc(t)) / (sigma Ibar))
  *   + w_smooth sum |second differences of D|^2 + w_anchor sum D^2,
@@ -34,6 +35,7 @@
 #include "sfs/sfs_expression.h"
 #include "sfs/sfs_multiview.h"
 #include "sfs/sfs_pose_align.h"
+#include "sfs/sfs_texel_normal.h"
 #include "sparse/sparse.h"
 
 #define TUKEY_C 4.685
@@ -63,13 +65,16 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
  * what the photo shows there. */
 typedef struct photo_texels {
     float *X, *n;   /* 3 per texel, head frame */
+    float *K;       /* 3 per texel: the normal's constant (sfs_texel_normal.h) */
     float *I;       /* 3 per texel */
     float *dI;      /* 3 per texel: d I / d D (per mm) through the projection (the multi-view term) */
     float *w;       /* per texel: 0 = not seen, else the view cosine */
 } photo_texels;
 
-/* Every texel's data terms: H (6 per texel), g (3), and for the joint albedo Haa (3), HaD (9:
- * 3 x the stencil's 3) and ga (3). */
+/* Every texel's data terms over its stencil [t, left, right, up, down]: H (15 per texel: the upper
+ * triangle, row by row), g (5), and for the joint albedo Haa (3), HaD (15: 3 x the stencil's 5) and
+ * ga (3). */
+#define HN (FR_SFS_STENCIL * (FR_SFS_STENCIL + 1) / 2)
 typedef struct texel_eqs {
     double *H, *g, *Haa, *HaD, *ga;
 } texel_eqs;
@@ -82,7 +87,8 @@ typedef struct mv {
     const uint8_t *use;
     const fr_sfs_multiview_options *o;
     int nt;             /* texels */
-    int *right, *down;  /* neighbour texel numbers, -1 */
+    int *left, *right, *up, *down; /* neighbour texel numbers, -1 */
+    fr_sfs_texel_grid grid;
     signed char *sign;  /* orientation of the grid's cross product against the normal */
     photo_texels *pt;
     double *D;          /* per texel, mm */
@@ -133,6 +139,12 @@ static frig_status photo_geometry(frig_ctx *ctx, mv *s, int k) {
     return FRIG_OK;
 }
 
+/* Photo k's normal constants (its texel points and normals, the grid's orientation). */
+static void photo_base(mv *s, int k) {
+    photo_texels *p = &s->pt[k];
+    for (int t = 0; t < s->nt; t++) fr_sfs_normal_base(&s->grid, p->X, p->n, s->sign[t], t, p->K + 3 * (size_t)t);
+}
+
 /* What photo k shows at each texel's displaced point (visibility from the rig's render). */
 static void photo_sample(mv *s, int k) {
     const fr_sfs_view *v = &s->views[k];
@@ -169,38 +181,39 @@ static void photo_sample(mv *s, int k) {
     }
 }
 
-/* The displaced surface's unit normal at texel t in photo k (head frame), and its derivatives
- * by D(t), D(right), D(down) (each 3, per mm). Returns 0 when t has no normal. */
-static int texel_normal(const mv *s, const double *D, int k, int t, double N[3], double dN[3][3]) {
-    int r = s->right[t], d = s->down[t];
-    if (r < 0 || d < 0) return 0;
+/* The displaced surface's unit normal at texel t in photo k (head frame; sfs_texel_normal.h),
+ * and its derivatives by D over t's stencil [t, left, right, up, down] (each 3, per mm; a missing
+ * neighbour's part is t's). Returns 0 when t has no normal. */
+static int texel_normal(const mv *s, const double *D, int k, int t, double N[3], double dN[FR_SFS_STENCIL][3]) {
+    int e[4];
+    if (!fr_sfs_secant_ends(&s->grid, t, e)) return 0;
     const photo_texels *p = &s->pt[k];
-    double P0[3], Pr[3], Pd[3], ex[3], ey[3], c[3];
-    for (int q = 0; q < 3; q++) {
-        P0[q] = p->X[3 * t + q] + D[t] * MM * p->n[3 * t + q];
-        Pr[q] = p->X[3 * r + q] + D[r] * MM * p->n[3 * r + q];
-        Pd[q] = p->X[3 * d + q] + D[d] * MM * p->n[3 * d + q];
-        ex[q] = Pr[q] - P0[q], ey[q] = Pd[q] - P0[q];
-    }
-    c[0] = ex[1] * ey[2] - ex[2] * ey[1], c[1] = ex[2] * ey[0] - ex[0] * ey[2], c[2] = ex[0] * ey[1] - ex[1] * ey[0];
+    double P[4][3], ex[3], ey[3], c[3];
+    for (int a = 0; a < 4; a++)
+        for (int q = 0; q < 3; q++) P[a][q] = p->X[3 * (size_t)e[a] + q] + D[e[a]] * MM * p->n[3 * (size_t)e[a] + q];
+    for (int q = 0; q < 3; q++) ex[q] = P[1][q] - P[0][q], ey[q] = P[3][q] - P[2][q];
+    fr_sfs_cross(ex, ey, c);
+    double sg = s->sign[t];
+    const float *K = p->K + 3 * (size_t)t;
+    for (int q = 0; q < 3; q++) c[q] = sg * c[q] + K[q];
     double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     if (!(l > 0)) return 0;
-    double sg = s->sign[t];
-    for (int q = 0; q < 3; q++) N[q] = sg * c[q] / l;
+    for (int q = 0; q < 3; q++) N[q] = c[q] / l;
     if (!dN) return 1;
-    /* dc/dD_t = ex x n_t - ... : de_x/dD_t = -n_t, de_y/dD_t = -n_t, de_x/dD_r = n_r, de_y/dD_d = n_d */
-    const float *nt = p->n + 3 * (size_t)t, *nr = p->n + 3 * (size_t)r, *nd = p->n + 3 * (size_t)d;
-    double dc[3][3];
-    for (int q = 0; q < 3; q++) {
-        int a = (q + 1) % 3, b = (q + 2) % 3;
-        /* (-n_t) x ey + ex x (-n_t) */
-        dc[0][q] = MM * (-(nt[a] * ey[b] - nt[b] * ey[a]) - (ex[a] * nt[b] - ex[b] * nt[a]));
-        dc[1][q] = MM * (nr[a] * ey[b] - nr[b] * ey[a]);
-        dc[2][q] = MM * (ex[a] * nd[b] - ex[b] * nd[a]);
+    /* dc/dD at the ends: s (d ex x ey + ex x d ey); d ex = -n_left, n_right; d ey = -n_up, n_down (per mm) */
+    double dc[FR_SFS_STENCIL][3];
+    memset(dc, 0, sizeof dc);
+    for (int a = 0; a < 4; a++) {
+        const float *na = p->n + 3 * (size_t)e[a];
+        double f = a % 2 ? MM : -MM, v[3] = {f * na[0], f * na[1], f * na[2]}, x[3];
+        if (a < 2) fr_sfs_cross(v, ey, x);
+        else fr_sfs_cross(ex, v, x);
+        int slot = fr_sfs_end_slot(&s->grid, t, a);
+        for (int q = 0; q < 3; q++) dc[slot][q] += sg * x[q];
     }
-    for (int j = 0; j < 3; j++) {
-        double proj = (dc[j][0] * N[0] + dc[j][1] * N[1] + dc[j][2] * N[2]) * sg;
-        for (int q = 0; q < 3; q++) dN[j][q] = sg * (dc[j][q] - sg * proj * N[q]) / l;
+    for (int j = 0; j < FR_SFS_STENCIL; j++) {
+        double proj = dc[j][0] * N[0] + dc[j][1] * N[1] + dc[j][2] * N[2];
+        for (int q = 0; q < 3; q++) dN[j][q] = (dc[j][q] - proj * N[q]) / l;
     }
     return 1;
 }
@@ -268,11 +281,12 @@ static int curv(const mv *s, int t, int dir, int nb[3]) {
  * complement has the same stencil) and its terms kept for the back-substitution; and the data
  * energy (its robust terms summed photo by photo, channel by channel). */
 static double texel_normal_equations(const mv *s, const double *D, const float *albedo, int t, const texel_eqs *eqs) {
-    double *H = eqs->H + 6 * (size_t)t, *g = eqs->g + 3 * (size_t)t, e = 0;
-    memset(H, 0, 6 * sizeof *H), memset(g, 0, 3 * sizeof *g);
-    double *Haa = eqs->Haa + 3 * (size_t)t, *HaD = eqs->HaD + 9 * (size_t)t, *ga = eqs->ga + 3 * (size_t)t;
-    memset(Haa, 0, 3 * sizeof *Haa), memset(HaD, 0, 9 * sizeof *HaD), memset(ga, 0, 3 * sizeof *ga);
-    double N[3], dN[3][3], S[3], G[3][3];
+    enum { NS = FR_SFS_STENCIL };
+    double *H = eqs->H + HN * (size_t)t, *g = eqs->g + NS * (size_t)t, e = 0;
+    memset(H, 0, HN * sizeof *H), memset(g, 0, NS * sizeof *g);
+    double *Haa = eqs->Haa + 3 * (size_t)t, *HaD = eqs->HaD + 3 * NS * (size_t)t, *ga = eqs->ga + 3 * (size_t)t;
+    memset(Haa, 0, 3 * sizeof *Haa), memset(HaD, 0, 3 * NS * sizeof *HaD), memset(ga, 0, 3 * sizeof *ga);
+    double N[3], dN[NS][3], S[3], G[3][3];
     for (int k = 0; k < s->nviews; k++) {
         const photo_texels *p = &s->pt[k];
         if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, D, k, t, N, dN)) continue;
@@ -283,15 +297,15 @@ static double texel_normal_equations(const mv *s, const double *D, const float *
         for (int c = 0; c < 3; c++) {
             double a = albedo[3 * t + c], r = (a * S[c] - I[c]) / sc, w = p->w[t] * fr_sfs_tukey_w(r);
             e += p->w[t] * fr_sfs_tukey_rho(r);
-            double j[3];
-            for (int q = 0; q < 3; q++) j[q] = a / sc * (G[c][0] * dN[q][0] + G[c][1] * dN[q][1] + G[c][2] * dN[q][2]);
+            double j[NS];
+            for (int q = 0; q < NS; q++) j[q] = a / sc * (G[c][0] * dN[q][0] + G[c][1] * dN[q][1] + G[c][2] * dN[q][2]);
             j[0] -= p->dI[3 * (size_t)t + c] / sc;
-            H[0] += w * j[0] * j[0], H[1] += w * j[1] * j[0], H[2] += w * j[2] * j[0];
-            H[3] += w * j[1] * j[1], H[4] += w * j[2] * j[1], H[5] += w * j[2] * j[2];
-            for (int q = 0; q < 3; q++) g[q] += w * j[q] * r;
+            for (int q = 0, h = 0; q < NS; q++)
+                for (int b = q; b < NS; b++, h++) H[h] += w * j[q] * j[b];
+            for (int q = 0; q < NS; q++) g[q] += w * j[q] * r;
             double ja = S[c] / sc;
             Haa[c] += w * ja * ja, ga[c] += w * ja * r;
-            for (int q = 0; q < 3; q++) HaD[3 * c + q] += w * ja * j[q];
+            for (int q = 0; q < NS; q++) HaD[NS * c + q] += w * ja * j[q];
         }
     }
     if (!s->o->joint_albedo)
@@ -299,10 +313,10 @@ static double texel_normal_equations(const mv *s, const double *D, const float *
     for (int c = 0; c < 3; c++) {
         if (!(Haa[c] > 0)) continue;
         Haa[c] *= 1 + 1e-6;
-        const double *h = HaD + 3 * c, inv = 1.0 / Haa[c];
-        H[0] -= h[0] * h[0] * inv, H[1] -= h[1] * h[0] * inv, H[2] -= h[2] * h[0] * inv;
-        H[3] -= h[1] * h[1] * inv, H[4] -= h[2] * h[1] * inv, H[5] -= h[2] * h[2] * inv;
-        for (int q = 0; q < 3; q++) g[q] -= h[q] * ga[c] * inv;
+        const double *h = HaD + NS * c, inv = 1.0 / Haa[c];
+        for (int q = 0, k = 0; q < NS; q++)
+            for (int b = q; b < NS; b++, k++) H[k] -= h[q] * h[b] * inv;
+        for (int q = 0; q < NS; q++) g[q] -= h[q] * ga[c] * inv;
     }
     return e;
 }
@@ -334,13 +348,17 @@ static double evaluate(const mv *s, const double *D, const float *albedo, const 
 /* The albedo step that goes with the displacement step (back-substitution). */
 static void albedo_step(mv *s, const double *dD) {
     for (int t = 0; t < s->nt; t++) {
-        int r = s->right[t], d = s->down[t];
+        int u[FR_SFS_STENCIL];
+        fr_sfs_stencil(&s->grid, t, u);
         for (int c = 0; c < 3; c++) {
             const texel_eqs *q = &s->eq[s->cur];
             double v = s->albedo[3 * t + c], Haa = q->Haa[3 * (size_t)t + c];
-            if (r >= 0 && d >= 0 && Haa > 0) {
-                const double *h = q->HaD + 9 * (size_t)t + 3 * c;
-                v -= (q->ga[3 * (size_t)t + c] + h[0] * dD[t] + h[1] * dD[r] + h[2] * dD[d]) / Haa;
+            if (Haa > 0) {
+                const double *h = q->HaD + 3 * FR_SFS_STENCIL * (size_t)t + FR_SFS_STENCIL * c;
+                double x = q->ga[3 * (size_t)t + c];
+                for (int a = 0; a < FR_SFS_STENCIL; a++)
+                    if (u[a] >= 0) x += h[a] * dD[u[a]];
+                v -= x / Haa;
             }
             s->albedo_try[3 * t + c] = (float)(v > 0 ? v : 0);
         }
@@ -358,18 +376,15 @@ static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr) {
     memset(s->rhs, 0, sizeof(double) * (size_t)s->nt);
     frig_status st = FRIG_OK;
     for (int t = 0; t < s->nt && !st; t++) {
-        const double *H = eq->H + 6 * (size_t)t;
-        int r = s->right[t], d = s->down[t];
-        if (r >= 0 && d >= 0) {
-            int u[3] = {t, r, d};
-            for (int q = 0; q < 3; q++)
-                s->rhs[u[q]] -= eq->g[3 * (size_t)t + q];
-            st = add(ctx, tr, t, t, H[0]);
-            if (!st) st = add(ctx, tr, r, t, H[1]);
-            if (!st) st = add(ctx, tr, d, t, H[2]);
-            if (!st) st = add(ctx, tr, r, r, H[3]);
-            if (!st) st = add(ctx, tr, d, r, H[4]);
-            if (!st) st = add(ctx, tr, d, d, H[5]);
+        const double *H = eq->H + HN * (size_t)t;
+        int u[FR_SFS_STENCIL], e[4];
+        fr_sfs_stencil(&s->grid, t, u);
+        if (fr_sfs_secant_ends(&s->grid, t, e)) {
+            for (int a = 0; a < FR_SFS_STENCIL; a++)
+                if (u[a] >= 0) s->rhs[u[a]] -= eq->g[FR_SFS_STENCIL * (size_t)t + a];
+            for (int a = 0, h = 0; a < FR_SFS_STENCIL && !st; a++)
+                for (int b = a; b < FR_SFS_STENCIL && !st; b++, h++)
+                    if (u[a] >= 0 && u[b] >= 0) st = add(ctx, tr, u[a], u[b], H[h]);
         }
         s->damped[t] = tr->count;
         if (!st) st = add(ctx, tr, t, t, s->o->w_anchor + mu);
@@ -560,7 +575,8 @@ static int cmp_float(const void *x, const void *y) {
 
 static void mv_free(mv *s) {
     for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w), free(s->pt[k].dI);
-    free(s->pt), free(s->right), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
+    for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].K);
+    free(s->pt), free(s->left), free(s->right), free(s->up), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
     for (int b = 0; b < 2; b++)
         free(s->eq[b].H), free(s->eq[b].g), free(s->eq[b].Haa), free(s->eq[b].HaD), free(s->eq[b].ga);
     free(s->albedo), free(s->albedo_try), free(s->damped), free(s->e_texel);
@@ -603,10 +619,11 @@ static frig_status expression_init(frig_ctx *ctx, mv *s) {
         count = 0;
         for (size_t t = 0; t < nt; t++) {
             s->eoffset[t] = (int)count;
-            int u[3] = {(int)t, s->right[t], s->down[t]};
+            int u[FR_SFS_STENCIL];
+            fr_sfs_stencil(&s->grid, (int)t, u);
             for (int j = 0; j < na; j++) {
                 int moves = 0;
-                for (int c = 0; c < 3 && !moves; c++) {
+                for (int c = 0; c < FR_SFS_STENCIL && !moves; c++) {
                     const float *d = u[c] >= 0 ? s->edX + 3 * (nt * (size_t)j + (size_t)u[c]) : NULL;
                     moves = d && fabsf(d[0]) + fabsf(d[1]) + fabsf(d[2]) > 1e-6f;
                 }
@@ -626,8 +643,7 @@ static frig_status expression_init(frig_ctx *ctx, mv *s) {
     free(s->edX);
     s->edX = tm;
     fr_log(ctx, FRIG_LOG_DEBUG, "sfs: expression step: %d shapes, %.1f per texel", na, (double)count / (nt ? nt : 1));
-    s->eg = (fr_sfs_expression_grid){s->nt, s->right, s->down, s->sign, m->shapes, na, s->eshape, s->edX, s->eoffset,
-                                     s->elist};
+    s->eg = (fr_sfs_expression_grid){s->nt, s->grid, s->sign, m->shapes, na, s->eshape, s->edX, s->eoffset, s->elist};
     return FRIG_OK;
 }
 
@@ -652,7 +668,7 @@ static frig_status expression_step(frig_ctx *ctx, mv *s, int threads) {
         fr_ctx_init_child(&child, ctx);
         fr_sfs_view *v = &s->views[k];
         const photo_texels *p = &s->pt[k];
-        fr_sfs_expression_photo ep = {p->X, p->n, p->I, p->w, s->D, s->albedo};
+        fr_sfs_expression_photo ep = {p->X, p->n, p->K, p->I, p->w, s->D, s->albedo};
         double before[256], change = 0;
         int na = s->eg.active < 256 ? s->eg.active : 256;
         for (int j = 0; j < na; j++) before[j] = v->weights[s->eshape[j]];
@@ -665,6 +681,8 @@ static frig_status expression_step(frig_ctx *ctx, mv *s, int threads) {
         /* the registration that follows draws the view again itself */
         if (photo_geometry(&child, s, k) || (s->o->pose_levels <= 0 && fr_sfs_view_render(&child, s->m, v, R, t, vd)))
             failed = 1;
+        else
+            photo_base(s, k);
     }
     if (failed && !st) st = fr_nomem(ctx, "the expression step");
     fr_log(ctx, FRIG_LOG_DEBUG,
@@ -742,20 +760,22 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     int T = uv->size, threads = fr_threads(ctx);
     size_t nt = (size_t)s.nt + 1;
     s.pt = calloc((size_t)nviews + 1, sizeof *s.pt);
-    s.right = malloc(sizeof(int) * nt), s.down = malloc(sizeof(int) * nt), s.sign = malloc(nt);
+    s.left = malloc(sizeof(int) * nt), s.right = malloc(sizeof(int) * nt), s.up = malloc(sizeof(int) * nt);
+    s.down = malloc(sizeof(int) * nt), s.sign = malloc(nt);
+    s.grid = (fr_sfs_texel_grid){s.left, s.right, s.up, s.down};
     s.D = calloc(nt, sizeof(double)), s.D_s = calloc(nt, sizeof(double)), s.D_try = malloc(sizeof(double) * nt), s.delta = malloc(sizeof(double) * 3 * nt);
     s.rhs = malloc(sizeof(double) * nt), s.albedo = malloc(sizeof(float) * 3 * nt);
     s.albedo_try = malloc(sizeof(float) * 3 * nt);
     int eq_ok = 1;
     for (int b = 0; b < 2; b++) {
         texel_eqs *q = &s.eq[b];
-        q->H = malloc(sizeof(double) * 6 * nt), q->g = malloc(sizeof(double) * 3 * nt);
-        q->Haa = malloc(sizeof(double) * 3 * nt), q->HaD = malloc(sizeof(double) * 9 * nt);
+        q->H = malloc(sizeof(double) * HN * nt), q->g = malloc(sizeof(double) * FR_SFS_STENCIL * nt);
+        q->Haa = malloc(sizeof(double) * 3 * nt), q->HaD = malloc(sizeof(double) * 3 * FR_SFS_STENCIL * nt);
         q->ga = malloc(sizeof(double) * 3 * nt);
         eq_ok &= q->H && q->g && q->Haa && q->HaD && q->ga;
     }
     s.damped = malloc(sizeof(size_t) * nt), s.e_texel = malloc(sizeof(double) * 3 * nt), s.threads = threads;
-    frig_status st = !s.pt || !s.right || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs ||
+    frig_status st = !s.pt || !s.left || !s.right || !s.up || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs ||
                              !eq_ok || !s.albedo || !s.albedo_try || !s.damped || !s.e_texel
                          ? fr_nomem(ctx, "the multi-view solve")
                          : FRIG_OK;
@@ -764,12 +784,14 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         if (!use[k]) continue;
         p->X = malloc(sizeof(float) * 3 * nt), p->n = malloc(sizeof(float) * 3 * nt);
         p->I = malloc(sizeof(float) * 3 * nt), p->w = calloc(nt, sizeof(float));
-        p->dI = calloc(3 * nt, sizeof(float));
-        if (!p->X || !p->n || !p->I || !p->w || !p->dI) st = fr_nomem(ctx, "the multi-view solve");
+        p->dI = calloc(3 * nt, sizeof(float)), p->K = calloc(3 * nt, sizeof(float));
+        if (!p->X || !p->n || !p->I || !p->w || !p->dI || !p->K) st = fr_nomem(ctx, "the multi-view solve");
     }
     for (int t = 0; t < s.nt && !st; t++) {
         int x = uv->texel[t] % T, y = uv->texel[t] / T;
+        s.left[t] = x > 0 ? uv->index[y * T + x - 1] : -1;
         s.right[t] = x + 1 < T ? uv->index[y * T + x + 1] : -1;
+        s.up[t] = y > 0 ? uv->index[(y - 1) * T + x] : -1;
         s.down[t] = y + 1 < T ? uv->index[(y + 1) * T + x] : -1;
         for (int q = 0; q < 3; q++) s.albedo[3 * t + q] = ps->albedo[3 * (size_t)uv->texel[t] + q];
     }
@@ -781,18 +803,14 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     /* the grid's orientation against the rig's neutral normals (the first used photo's) */
     int k0 = 0;
     while (k0 < nviews && !use[k0]) k0++;
-    for (int t = 0; t < s.nt && !st && k0 < nviews; t++) {
-        s.sign[t] = 1;
-        double N[3];
-        if (texel_normal(&s, s.D, k0, t, N, NULL)) {
-            const float *n = s.pt[k0].n + 3 * (size_t)t;
-            s.sign[t] = N[0] * n[0] + N[1] * n[1] + N[2] * n[2] < 0 ? -1 : 1;
-        }
-    }
+    for (int t = 0; t < s.nt && !st; t++)
+        s.sign[t] = k0 < nviews ? fr_sfs_grid_sign(&s.grid, s.pt[k0].X, s.pt[k0].n, t) : 1;
+    for (int k = 0; k < nviews && !st; k++)
+        if (use[k]) photo_base(&s, k);
     fr_triplets tr;
     memset(&tr, 0, sizeof tr);
     fr_cholesky *ch = NULL;
-    if (!st) st = fr_triplets_init(ctx, &tr, s.nt, s.nt, (size_t)s.nt * 16);
+    if (!st) st = fr_triplets_init(ctx, &tr, s.nt, s.nt, (size_t)s.nt * 32);
     if (!st && o->expression_steps > 0) st = expression_init(ctx, &s);
     /* the photos registered to the rig and the first albedo before the first round */
     if (o->pose_levels > 0 && !st && k0 < nviews) st = joint_pose(ctx, &s, threads, 0, o->pose_levels);
