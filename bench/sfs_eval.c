@@ -22,11 +22,13 @@
  * --in-span MODEL starts from the model at the subject's true identity (only the out-of-span offset
  * to recover), --truth-neutral from the true neutral, --truth-rig from the whole true rig: with
  * --truth-weights, what the shared shape adds to a rig that needs nothing (docs/sfs.md);
- * --dump-neutral PATH writes the rig's neutral with the shared displacement as OBJ vertices.
+ * --dump-neutral PATH writes the rig's neutral with the shared displacement as OBJ vertices;
+ * --write-fits saves the workspace's report with the truth's poses (--truth-pose) and weights
+ * (--truth-weights) in place of the fit's and runs nothing else (then frig sfs on it).
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
  *                 [--truth-weights] [--truth-expression] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo]
  *                 [--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] [--pose-noise DEG]
- *                 [--in-span MODEL | --truth-neutral | --truth-rig] [--dump-neutral PATH] */
+ *                 [--in-span MODEL | --truth-neutral | --truth-rig] [--dump-neutral PATH] [--write-fits] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -203,7 +205,7 @@ int main(int argc, char **argv) {
     double w_stereo = -1, shape_sigma = -1, oracle_deg = 0, pose_noise = 0, pose_sigma = -1;
     int pose_levels = -1;
     const char *in_span_model = NULL, *dump_neutral = NULL;
-    int truth_neutral = 0;
+    int truth_neutral = 0, write_fits = 0;
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
             if (bench_set_param(ctx, argv[++i])) return 2;
@@ -226,6 +228,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--dump-neutral") && i + 1 < argc) dump_neutral = argv[++i];
         else if (!strcmp(argv[i], "--truth-neutral")) truth_neutral = 1;
         else if (!strcmp(argv[i], "--truth-rig")) truth_neutral = 2;
+        else if (!strcmp(argv[i], "--write-fits")) write_fits = 1;
         else {
             fprintf(stderr, "unknown argument %s\n", argv[i]);
             return 2;
@@ -240,6 +243,11 @@ int main(int argc, char **argv) {
     if (frig_rig_load(ctx, path, &truth_rig)) goto fail;
     if (frig_photoset_load(ctx, argv[2], &set)) goto fail;
     if (truth_pose || truth_weights) set_truth_fits(truth_rig, set, truth_pose, truth_weights, pose_noise);
+    if (write_fits) { /* the workspace's fits replaced (--truth-pose, --truth-weights), nothing else run */
+        frig_status ws = frig_photoset_save(ctx, set, argv[2]);
+        frig_photoset_free(set), frig_rig_free(rig), frig_rig_free(truth_rig), frig_ctx_free(ctx);
+        return ws ? 1 : 0;
+    }
     if (in_span_model && set_in_span(ctx, in_span_model, argv[1], rig)) goto fail;
     if (truth_neutral == 1 && frig_rig_set_neutral(ctx, rig, frig_rig_neutral(truth_rig))) goto fail;
     fr_sfs_settings st;

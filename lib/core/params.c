@@ -254,9 +254,10 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_TRANSFER, "retarget.transfer", 0, 0, 1, 1,
      "the retargeting term's target for each blendshape: 1 the template's expression moved onto the neutral by "
      "deformation transfer (the paper), 0 the template's deltas vertex by vertex"},
-    {FRIG_PARAM_RETARGET_ANCHOR_FRAME, "retarget.anchor_frame", 1, 0, 1, 1,
+    {FRIG_PARAM_RETARGET_ANCHOR_FRAME, "retarget.anchor_frame", 1, 0, 2, 1,
      "1: after each pass the rig is moved back rigidly to the frame it had (the clouds' alignments leave the frame "
-     "free); 0: the clouds' frame (for clouds in a known true frame)"},
+     "free); 2: to the frame of the model at the identity the clouds gave; 0: the clouds' frame (for clouds in a "
+     "known true frame)"},
     {FRIG_PARAM_RETARGET_MAX_CORRECTION_DEG, "retarget.max_correction_deg", 15, 0, 180, 0,
      "a cloud that must be turned more than this (degrees) to fit its photo's reconstruction is not used: it "
      "shows another surface (a wrong pose, a failed sfs)"},
@@ -265,7 +266,7 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS, "retarget.fixed_cloud_rounds", 1, 1, 20, 1,
      "outer rounds at most when the clouds cannot be recovered with the new rig (no sfs stage in the loop): later "
      "rounds only refit the poses, and with the same clouds they fit the clouds' noise again"},
-    {FRIG_PARAM_RETARGET_IDENTITY_PRIOR, "retarget.identity_prior", 100, 0.01, 1e6, 0,
+    {FRIG_PARAM_RETARGET_IDENTITY_PRIOR, "retarget.identity_prior", 30, 0.01, 1e6, 0,
      "weight of the model's prior N(0, I) on the identity fitted to the clouds, against matches weighed at 1 mm "
      "each (s^2 weighs them at s mm)"},
     {FRIG_PARAM_RETARGET_IDENTITY_SPREAD, "retarget.identity_spread", 0.03, 0, 100, 0,

@@ -333,7 +333,15 @@ frig_status fr_rt_run(frig_ctx *ctx, const fr_rt_settings *s, const frig_model *
             fr_stopwatch_read(&t_head, &wall, &cpu);
             fr_log(ctx, FRIG_LOG_DEBUG, "retarget: the whole head %.2f s (%.2f CPU s)", wall, cpu);
         }
-        if (!r && s->anchor_frame) fr_rt_anchor_frame(rig, nf, start);
+        if (!r && s->anchor_frame == 2 && n_id > 0) {
+            /* the frame of the model at the identity the clouds gave: the identity modes move the head
+             * as a whole too, and that part is the identity's (its shape tells it through the modes) */
+            float *frame = malloc(sizeof(float) * rig3);
+            if (!frame) r = fr_nomem(ctx, "the rig's frame");
+            if (!r) r = frig_model_eval(ctx, model, identity, NULL, frame);
+            if (!r) fr_rt_anchor_frame(rig, nf, frame);
+            free(frame);
+        } else if (!r && s->anchor_frame) fr_rt_anchor_frame(rig, nf, start);
         free(old_neutral), free(old_deltas);
     }
     free(start), free(start_deltas);
