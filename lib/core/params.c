@@ -92,6 +92,11 @@ static const param_row rows[] = {
      "joint identity prior: this fraction of the selected photos' mean identity (1: the paper; 0: the model mean)"},
     {FRIG_PARAM_FIT_MEAN_SIZE, "fit.mean_size", 1, 0, 1, 1,
      "1: the identity keeps the mean face's size, in the fit's joint identity and retarget's identity from the clouds (photos do not show a head's size; the landmarks' bias would set it)"},
+    {FRIG_PARAM_FIT_OUTLINE_ITERATIONS, "fit.outline_iterations", 4, 0, 50, 1,
+     "Gauss-Newton steps of the identity and every photo's pose from the photos' outlines (where the head is "
+     "seen edge-on against the background) after the landmark fit; 0: off"},
+    {FRIG_PARAM_FIT_OUTLINE_PRIOR, "fit.outline_prior", 100, 0.01, 1e6, 0,
+     "weight of the identity's prior N(0, I) in the outline steps, against one outline pixel's error of a pixel"},
 
     {FRIG_PARAM_SYNTH_MAX_YAW, "synth.max_yaw", 60, 0, 90, 0, "largest head yaw of synthetic photos, degrees"},
     {FRIG_PARAM_SYNTH_OFFSET_MM, "synth.offset_mm", 4, 0, 50, 0,

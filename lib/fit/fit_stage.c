@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "fit/outline_fit.h"
 #include "fit/photo_consistency.h"
 #include "fit/progressive_fit.h"
 #include "frig/fit.h"
@@ -114,6 +115,25 @@ static frig_status record(frig_ctx *ctx, frig_photoset *set, const fr_fit_model 
     return s;
 }
 
+/* The identity and the poses refined from the photos' outlines (outline_fit.c). */
+static frig_status refine_by_outlines(frig_ctx *ctx, const frig_photoset *set, const fr_fit_model *fm, const usable *u,
+                                      int n, const fr_fit_input *in, fr_fit_result *res, double *identity) {
+    fr_outline_options o = {fr_param_int(ctx, FRIG_PARAM_FIT_OUTLINE_ITERATIONS),
+                            fr_param(ctx, FRIG_PARAM_FIT_OUTLINE_PRIOR), fr_param_int(ctx, FRIG_PARAM_FIT_MEAN_SIZE),
+                            fr_threads(ctx)};
+    if (o.iterations <= 0) return FRIG_OK;
+    const char **paths = malloc(sizeof(char *) * ((size_t)n + 1));
+    if (!paths) return fr_nomem(ctx, "the outline fit");
+    for (int a = 0; a < n; a++) paths[a] = set->photos[u[a].photo].path;
+    double moved[2];
+    frig_status s = fr_fit_outline(ctx, fm, &o, n, paths, in, res, identity, moved);
+    if (!s)
+        fr_log(ctx, FRIG_LOG_INFO, "fit: the outlines %.2f -> %.2f px from the photos' edges (RMS, %d steps)",
+               moved[0], moved[1], o.iterations);
+    free(paths);
+    return s;
+}
+
 frig_status frig_fit(frig_ctx *ctx, const frig_model *model, frig_photoset *set) {
     if (!model || !set) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_fit: NULL model or photo set");
     usable *u = malloc(sizeof(usable) * (set->count + 1));
@@ -168,6 +188,7 @@ frig_status frig_fit(frig_ctx *ctx, const frig_model *model, frig_photoset *set)
         fr_fit_settings_from_ctx(ctx, &st);
         s = fr_fit_run(ctx, &fm, &st, FR_SCHEME_PROGRESSIVE, kept, in, res, identity);
     }
+    if (!s) s = refine_by_outlines(ctx, set, &fm, u, kept, in, res, identity);
     if (!s) s = record(ctx, set, &fm, u, kept, res, identity);
     for (int a = 0; a < n && errors && crops; a++) {
         free(errors[a]);

@@ -149,3 +149,21 @@ int fr_topology_material(const fr_topology *t, const char *name) {
         if (strcmp(t->material_names[m], name) == 0) return m;
     return -1;
 }
+
+static const char *triangle_material(const fr_topology *t, int i) {
+    int m = t->triangle_materials[i];
+    return m >= 0 && m < t->material_count ? t->material_names[m] : NULL;
+}
+
+int fr_topology_opaque(const fr_topology *t, int i) {
+    static const char *const overlays[] = {"M_LacrimalFluid", "M_EyeBlend", "M_EyeOcclusion", "M_EyeLashes"};
+    const char *name = triangle_material(t, i);
+    for (size_t k = 0; k < sizeof overlays / sizeof overlays[0]; k++)
+        if (name && strcmp(name, overlays[k]) == 0) return 0;
+    return 1;
+}
+
+int fr_topology_face_skin(const fr_topology *t, int i) {
+    const char *name = triangle_material(t, i);
+    return name && strcmp(name, "M_Face") == 0;
+}

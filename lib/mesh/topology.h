@@ -39,6 +39,12 @@ void fr_topology_release(fr_topology *t);
 int fr_topology_region(const fr_topology *t, const char *name, int *first, int *count);
 /* The material's index by name; -1 when absent. */
 int fr_topology_material(const fr_topology *t, const char *name);
+/* Whether triangle i is drawn opaque in a photo: every material but ICT's transparent eye
+ * overlays (lacrimal fluid, eye blend, eye occlusion) and the lashes, which a photo shows through
+ * or as strands (the synthetic renderer leaves them out too). */
+int fr_topology_opaque(const fr_topology *t, int i);
+/* Whether triangle i is the face's skin (ICT's M_Face material: face, neck, ears, scalp). */
+int fr_topology_face_skin(const fr_topology *t, int i);
 
 /* Fan-triangulate polygons: triangle count = sum (corners - 2). Outputs are allocated. */
 frig_status fr_triangulate(frig_ctx *ctx, int polygon_count, const int32_t *offsets, const int32_t *corners,

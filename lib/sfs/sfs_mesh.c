@@ -9,13 +9,6 @@
 #include "rig/rig.h"
 #include "sfs/sfs.h"
 
-static int drawn_material(const char *name) {
-    static const char *const skipped[] = {"M_LacrimalFluid", "M_EyeBlend", "M_EyeOcclusion", "M_EyeLashes"};
-    for (size_t k = 0; k < sizeof skipped / sizeof skipped[0]; k++)
-        if (name && strcmp(name, skipped[k]) == 0) return 0;
-    return 1;
-}
-
 frig_status fr_sfs_mesh_init(frig_ctx *ctx, const frig_rig *rig, fr_sfs_mesh *m) {
     memset(m, 0, sizeof *m);
     const fr_topology *t = &rig->topo;
@@ -37,12 +30,10 @@ frig_status fr_sfs_mesh_init(frig_ctx *ctx, const frig_rig *rig, fr_sfs_mesh *m)
     for (int r = 0; r < t->region_count; r++)
         if (strcmp(t->region_names[r], "narrow_face") == 0) narrow_first = t->regions[2 * r], narrow_count = t->regions[2 * r + 1];
     for (int i = 0; i < t->triangle_count; i++) {
-        int mat = t->triangle_materials[i];
-        const char *name = mat >= 0 && mat < t->material_count ? t->material_names[mat] : NULL;
-        if (!drawn_material(name)) continue;
+        if (!fr_topology_opaque(t, i)) continue;
         memcpy(m->tris + 3 * (size_t)m->nt, t->triangles + 3 * (size_t)i, sizeof(int32_t) * 3);
         memcpy(m->tri_uv + 3 * (size_t)m->nt, t->triangle_uvs + 3 * (size_t)i, sizeof(int32_t) * 3);
-        m->face[m->nt] = name && strcmp(name, "M_Face") == 0;
+        m->face[m->nt] = (uint8_t)fr_topology_face_skin(t, i);
         m->core[m->nt] = m->face[m->nt];
         for (int c = 0; c < 3; c++) {
             int vtx = t->triangles[3 * (size_t)i + c];

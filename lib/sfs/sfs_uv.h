@@ -9,6 +9,7 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "image/bilinear.h"
 #include "sfs/sfs.h"
 
 typedef struct fr_sfs_uv {
@@ -33,27 +34,12 @@ int fr_sfs_uv_locate(const fr_sfs_uv *uv, const fr_sfs_mesh *m, const fr_sfs_vie
  * interpolated); 0 when the pixel shows no face triangle. */
 int fr_sfs_uv_at_pixel(const fr_sfs_mesh *m, const fr_sfs_view *v, size_t pixel, double uv[2]);
 
-static inline int fr_sfs_clamp_index(int v, int n) { return v < 0 ? 0 : v >= n ? n - 1 : v; }
+static inline int fr_sfs_clamp_index(int v, int n) { return fr_clamp_index(v, n); }
 
 /* Bilinear sample of a w x h RGB image (3 floats per pixel) at crop point xy, the border
- * repeated; the four corners summed in the order (x0, y0), (x1, y0), (x0, y1), (x1, y1). Inline:
- * the pose registration's and the shared shape's inner loops call it per texel and pixel. */
+ * repeated (image/bilinear.h). */
 static inline void fr_sfs_bilinear(const float *img, int w, int h, const double xy[2], double out[3]) {
-    int x0 = (int)floor(xy[0]), y0 = (int)floor(xy[1]);
-    double fx = xy[0] - x0, fy = xy[1] - y0;
-    int xa = fr_sfs_clamp_index(x0, w), xb = fr_sfs_clamp_index(x0 + 1, w);
-    size_t ra = (size_t)fr_sfs_clamp_index(y0, h) * w, rb = (size_t)fr_sfs_clamp_index(y0 + 1, h) * w;
-    const float *p00 = img + 3 * (ra + xa), *p10 = img + 3 * (ra + xb), *p01 = img + 3 * (rb + xa),
-                *p11 = img + 3 * (rb + xb);
-    double w00 = (1 - fx) * (1 - fy), w10 = fx * (1 - fy), w01 = (1 - fx) * fy, w11 = fx * fy;
-    for (int c = 0; c < 3; c++) {
-        double a = 0;
-        a += w00 * p00[c];
-        a += w10 * p10[c];
-        a += w01 * p01[c];
-        a += w11 * p11[c];
-        out[c] = a;
-    }
+    fr_bilinear3(img, w, h, xy, out);
 }
 
 /* The image's central-difference gradient at crop point xy (bilinear samples one pixel either

@@ -1,0 +1,428 @@
+/* The subject's identity and every photo's pose refined from the photos' outlines (beyond the
+ * paper: its sections 4.3-4.4 fit the identity to 68 landmarks per photo, whose jaw points are
+ * the only outline they see). Measured on frig synth subjects, even the truth's own landmarks
+ * leave the fitted neutral 2.7-3.5 mm from the truth (docs/fit.md, "The outlines"): 68 points do
+ * not fix the model's 100 identity modes. Where a photo sees the head edge-on (cheeks, jaw, chin,
+ * neck, forehead of a turned face) its outline against the background is a dense measurement of
+ * the shape, and photos turned every way put it on different parts of the head.
+ *
+ * Each step draws the model at the current identity, each photo's expression and pose into a crop
+ * of the photo (area-averaged in linear light, the face's longer side about 160 pixels, blurred by
+ * a pixel), pairs every outline pixel (a face-skin triangle next to a pixel with no triangle, seen
+ * at more than 66 degrees) with the photo's strongest edge along its outward direction (within 4
+ * pixels, nearer ones preferred), and takes one Gauss-Newton step of
+ *     sum_photos sum_pairs huber(nu . (p(X) - e)) + prior |w|^2
+ * in the identity w (the model's modes, shared; the face's size held when fit.mean_size is set)
+ * and each photo's rotation and translation (6 values, eliminated per photo by their Schur
+ * complement; p the crop's projection, X the outline point, nu its outward direction, e the
+ * edge; Huber at a pixel, pairs more than 3 pixels apart left out). The photos' per-photo work
+ * runs in parallel; the sums are made in photo order (the same result for any thread count). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <omp.h>
+
+#include "core/context.h"
+#include "fit/outline_fit.h"
+#include "image/area_crop.h"
+#include "image/bilinear.h"
+#include "image/gaussian_blur.h"
+#include "image/image.h"
+#include "linalg/linalg.h"
+#include "mesh/topology.h"
+#include "model/face_size.h"
+#include "model/model.h"
+#include "raster/raster.h"
+#include "raster/rotation.h"
+
+#define FACE_PX 160.0     /* the crop's face, longer side */
+#define MARGIN_SHARE 0.08 /* the crop's margin around the face */
+#define BLUR_PX 1.0       /* the photo's blur before its edges are read */
+#define EDGE_ON_COS 0.4   /* outline pixels are seen at more than 66 degrees */
+#define WINDOW_PX 4.0     /* the edge is searched this far either side */
+#define HUBER_PX 1.0
+#define MAX_PX 3.0        /* pairs farther apart are left out */
+#define OUTLINE_OFFSET 0.5 /* the outline pixel's centre lies about this far inside the outline */
+
+typedef struct view {
+    int ok, w, h;
+    fr_camera cam;   /* the crop's */
+    float *I;        /* blurred linear RGB, 3 per pixel */
+    uint8_t *inside; /* pixel centre inside the photo */
+} view;
+
+/* One photo's part of a step: over [identity (n), pose (6)], A (n x n), B (n x 6), C (6 x 6), g
+ * (n), u (6), the turn's centre, and the pairs' count and squared residuals. */
+typedef struct part {
+    double *A, *B, C[36], *g, u[6], centre[3];
+    double rss;
+    int pairs;
+} part;
+
+typedef struct mesh {
+    int nt;
+    int32_t *tris;   /* opaque triangles */
+    uint8_t *skin;   /* per drawn triangle: face skin */
+    int32_t *vertex; /* face-skin vertices, for the crop box */
+    int nface;
+} mesh;
+
+static void mesh_free(mesh *m) { free(m->tris), free(m->skin), free(m->vertex); }
+
+static frig_status mesh_init(frig_ctx *ctx, const fr_topology *t, mesh *m) {
+    memset(m, 0, sizeof *m);
+    m->tris = malloc(sizeof(int32_t) * 3 * ((size_t)t->triangle_count + 1));
+    m->skin = malloc((size_t)t->triangle_count + 1);
+    uint8_t *seen = calloc((size_t)t->vertex_count + 1, 1);
+    m->vertex = malloc(sizeof(int32_t) * ((size_t)t->vertex_count + 1));
+    if (!m->tris || !m->skin || !seen || !m->vertex) {
+        free(seen);
+        return fr_nomem(ctx, "the outline fit");
+    }
+    for (int i = 0; i < t->triangle_count; i++) {
+        if (!fr_topology_opaque(t, i)) continue;
+        memcpy(m->tris + 3 * (size_t)m->nt, t->triangles + 3 * (size_t)i, sizeof(int32_t) * 3);
+        m->skin[m->nt] = (uint8_t)fr_topology_face_skin(t, i);
+        for (int c = 0; m->skin[m->nt] && c < 3; c++) {
+            int v = t->triangles[3 * (size_t)i + c];
+            if (!seen[v]) seen[v] = 1, m->vertex[m->nface++] = v;
+        }
+        m->nt++;
+    }
+    free(seen);
+    return FRIG_OK;
+}
+
+/* The model at identity w (n of the model's modes) and photo a's fitted expression, head frame. */
+static frig_status pose_model(frig_ctx *ctx, const fr_fit_model *fm, const double *w, const fr_fit_result *r,
+                              double *id_full, double *ex_full, float *xyz) {
+    const frig_model *model = fm->model;
+    memset(id_full, 0, sizeof(double) * (size_t)model->identity_count);
+    memset(ex_full, 0, sizeof(double) * (size_t)model->expression_count);
+    memcpy(id_full, w, sizeof(double) * (size_t)fm->n_id);
+    for (int k = 0; k < fm->n_exp; k++) ex_full[fm->exp_index[k]] = r->w[fm->n_id + k];
+    return frig_model_eval(ctx, model, id_full, ex_full, xyz);
+}
+
+static fr_camera full_camera(const fr_fit_result *r, int W, int H) {
+    return r->perspective ? fr_camera_perspective(r->f, W, H) : fr_camera_weak(r->f, W, H);
+}
+
+/* Photo a's crop around the face as fitted, read and blurred. */
+static frig_status view_build(frig_ctx *ctx, const mesh *m, const char *path, int W, int H, const fr_fit_result *r,
+                              const float *xyz, view *v) {
+    memset(v, 0, sizeof *v);
+    fr_camera full = full_camera(r, W, H);
+    double box[4] = {INFINITY, INFINITY, -INFINITY, -INFINITY};
+    for (int k = 0; k < m->nface; k++) {
+        const float *x = xyz + 3 * (size_t)m->vertex[k];
+        double p[3], c[3] = {x[0], x[1], x[2]}, uv[2];
+        fr_mat3_apply(r->R, c, p);
+        for (int d = 0; d < 3; d++) p[d] += r->t[d];
+        if (!fr_camera_project(&full, p, uv)) continue;
+        box[0] = fmin(box[0], uv[0]), box[1] = fmin(box[1], uv[1]), box[2] = fmax(box[2], uv[0]), box[3] = fmax(box[3], uv[1]);
+    }
+    double size = fmax(box[2] - box[0], box[3] - box[1]);
+    if (!(size > 8)) return FRIG_OK; /* no face to read: left out */
+    double grow = MARGIN_SHARE * size, s = size > FACE_PX ? FACE_PX / size : 1.0;
+    double x0 = fmax(-0.5, box[0] - grow), y0 = fmax(-0.5, box[1] - grow);
+    double x1 = fmin(W - 0.5, box[2] + grow), y1 = fmin(H - 0.5, box[3] + grow);
+    if (!(x1 - x0 > 8 && y1 - y0 > 8)) return FRIG_OK;
+    x0 = floor(x0 + 0.5), y0 = floor(y0 + 0.5);
+    v->w = (int)ceil((x1 + 0.5 - x0) * s), v->h = (int)ceil((y1 + 0.5 - y0) * s);
+    v->cam = full;
+    if (r->perspective) v->cam.f *= s;
+    else v->cam.scale *= s;
+    v->cam.cx = (full.cx - x0 + 0.5) * s - 0.5, v->cam.cy = (full.cy - y0 + 0.5) * s - 0.5;
+    int reduce = 1;
+    while (reduce < 8 && 2.0 * reduce * s <= 1.0) reduce *= 2;
+    size_t np = (size_t)v->w * v->h;
+    float *lin = malloc(sizeof(float) * 3 * np);
+    v->I = malloc(sizeof(float) * 3 * np), v->inside = malloc(np);
+    frig_image *img = NULL;
+    int got = 1;
+    frig_status st = lin && v->I && v->inside ? fr_image_load_reduced(ctx, path, FRIG_LOAD_DEFAULT, reduce, &img, &got)
+                                               : fr_nomem(ctx, "the outline fit");
+    if (!st) st = fr_area_crop(ctx, img, x0 / got, y0 / got, 1.0 / (s * got), v->w, v->h, lin, NULL, v->inside);
+    if (!st) st = fr_gaussian_blur(ctx, lin, v->w, v->h, 3, BLUR_PX, v->I);
+    frig_image_free(img);
+    free(lin);
+    v->ok = !st;
+    return st;
+}
+
+static void view_free(view *v) { free(v->I), free(v->inside); }
+
+/* The blurred photo's derivative across nu at xy, summed over the channels in absolute value. */
+static double edge_strength(const view *v, const double xy[2], const double nu[2]) {
+    double a[3], b[3], xa[2] = {xy[0] + nu[0], xy[1] + nu[1]}, xb[2] = {xy[0] - nu[0], xy[1] - nu[1]};
+    fr_bilinear3(v->I, v->w, v->h, xa, a), fr_bilinear3(v->I, v->w, v->h, xb, b);
+    return fabs(a[0] - b[0]) + fabs(a[1] - b[1]) + fabs(a[2] - b[2]);
+}
+
+/* Pixel i's outward direction when it is an outline pixel (its neighbours with no triangle all
+ * inside the photo). */
+static int outward(const view *v, const fr_raster *r, int x, int y, double nu[2]) {
+    int bg = 0;
+    nu[0] = nu[1] = 0;
+    for (int dy = -1; dy <= 1; dy++)
+        for (int dx = -1; dx <= 1; dx++) {
+            size_t q = (size_t)(y + dy) * v->w + (size_t)(x + dx);
+            if (r->tri[q] >= 0) continue;
+            if (!v->inside[q]) return 0;
+            nu[0] += dx, nu[1] += dy, bg++;
+        }
+    double l = sqrt(nu[0] * nu[0] + nu[1] * nu[1]);
+    if (!bg || !(l > 0)) return 0;
+    nu[0] /= l, nu[1] /= l;
+    return 1;
+}
+
+/* The offset of the photo's strongest edge along nu from pixel (x, y) (nearer ones preferred);
+ * 0 when none. */
+static int edge_along(const view *v, int x, int y, const double nu[2], double *at) {
+    double best = 0;
+    int found = 0;
+    for (double sd = -WINDOW_PX; sd <= WINDOW_PX + 1e-9; sd += 0.5) {
+        double p[2] = {x + sd * nu[0], y + sd * nu[1]};
+        if (p[0] < 1 || p[1] < 1 || p[0] > v->w - 2 || p[1] > v->h - 2) continue;
+        double e = edge_strength(v, p, nu) * exp(-0.5 * sd * sd / (WINDOW_PX * WINDOW_PX));
+        if (e > best) best = e, *at = sd, found = 1;
+    }
+    return found;
+}
+
+/* Photo a's part of the step at identity w: its outline drawn, paired and linearized. xyz (3 nv)
+ * and cam (3 nv) are scratch. */
+static frig_status photo_part(frig_ctx *ctx, const fr_fit_model *fm, const mesh *m, const view *v,
+                              const fr_fit_result *res, const double *w, double *id_full, double *ex_full, float *xyz,
+                              float *cam, float *nrm, double *row, part *pa) {
+    const frig_model *model = fm->model;
+    int n = fm->n_id, nv = model->topo.vertex_count;
+    size_t nv3 = 3 * (size_t)nv;
+    memset(pa->A, 0, sizeof(double) * (size_t)n * n), memset(pa->B, 0, sizeof(double) * (size_t)n * 6);
+    memset(pa->g, 0, sizeof(double) * (size_t)n), memset(pa->C, 0, sizeof pa->C), memset(pa->u, 0, sizeof pa->u);
+    pa->rss = 0, pa->pairs = 0;
+    frig_status st = pose_model(ctx, fm, w, res, id_full, ex_full, xyz);
+    fr_raster *r = NULL;
+    if (!st) {
+        fr_transform_points(res->R, res->t, xyz, nv, cam);
+        fr_mesh_vertex_normals(cam, nv, m->tris, m->nt, nrm);
+        st = fr_raster_create(ctx, v->w, v->h, &r);
+    }
+    fr_raster_options ro = {FR_RASTER_DEFAULT_NEAR, 1};
+    if (!st) st = fr_raster_render(ctx, r, &v->cam, cam, nv, m->tris, m->nt, &ro);
+    if (st) {
+        fr_raster_free(r);
+        return st;
+    }
+    /* the turn's centre: the drawn face's mean point (camera frame) */
+    double centre[3] = {0, 0, 0};
+    int nc = 0;
+    for (size_t i = 0; i < (size_t)v->w * v->h; i++)
+        if (r->tri[i] >= 0 && m->skin[r->tri[i]]) {
+            const int32_t *t3 = m->tris + 3 * (size_t)r->tri[i];
+            for (int c = 0; c < 3; c++)
+                for (int d = 0; d < 3; d++) centre[d] += r->bary[3 * i + c] * cam[3 * (size_t)t3[c] + d];
+            nc++;
+        }
+    for (int d = 0; d < 3 && nc; d++) centre[d] /= nc;
+    memcpy(pa->centre, centre, sizeof centre);
+    for (int y = 2; y < v->h - 2; y++)
+        for (int x = 2; x < v->w - 2; x++) {
+            size_t i = (size_t)y * v->w + x;
+            int32_t tr = r->tri[i];
+            double nu[2], X[3] = {0, 0, 0}, nc3[3] = {0, 0, 0}, at = 0;
+            if (tr < 0 || !m->skin[tr] || !v->inside[i] || !outward(v, r, x, y, nu)) continue;
+            const int32_t *t3 = m->tris + 3 * (size_t)tr;
+            const float *b = r->bary + 3 * i;
+            for (int c = 0; c < 3; c++)
+                for (int d = 0; d < 3; d++)
+                    X[d] += b[c] * cam[3 * (size_t)t3[c] + d], nc3[d] += b[c] * nrm[3 * (size_t)t3[c] + d];
+            double xl = sqrt(X[0] * X[0] + X[1] * X[1] + X[2] * X[2]);
+            double nl = sqrt(nc3[0] * nc3[0] + nc3[1] * nc3[1] + nc3[2] * nc3[2]);
+            if (!(xl > 0) || !(nl > 0) || fabs(nc3[0] * X[0] + nc3[1] * X[1] + nc3[2] * X[2]) / (xl * nl) > EDGE_ON_COS)
+                continue;
+            if (!edge_along(v, x, y, nu, &at)) continue;
+            double rr = OUTLINE_OFFSET - at; /* the drawn outline's distance outside the photo's edge */
+            if (fabs(rr) > MAX_PX) continue;
+            double wt = fabs(rr) <= HUBER_PX ? 1.0 : HUBER_PX / fabs(rr);
+            /* d r / d X (camera) = nu . J; head frame: R^T of it */
+            double J[6], jn[3], jh[3];
+            fr_camera_project_jacobian(&v->cam, X, J);
+            for (int d = 0; d < 3; d++) jn[d] = nu[0] * J[d] + nu[1] * J[3 + d];
+            for (int d = 0; d < 3; d++) jh[d] = res->R[d] * jn[0] + res->R[3 + d] * jn[1] + res->R[6 + d] * jn[2];
+            for (int k = 0; k < n; k++) {
+                const float *U = model->identity + nv3 * (size_t)k;
+                double a = 0;
+                for (int c = 0; c < 3; c++) {
+                    const float *u = U + 3 * (size_t)t3[c];
+                    a += b[c] * (jh[0] * u[0] + jh[1] * u[1] + jh[2] * u[2]);
+                }
+                row[k] = a;
+            }
+            /* the pose: a turn om about the centre moves X by om x q (q = X - centre), a shift by dt */
+            double q[3] = {X[0] - centre[0], X[1] - centre[1], X[2] - centre[2]};
+            row[n + 0] = q[1] * jn[2] - q[2] * jn[1];
+            row[n + 1] = q[2] * jn[0] - q[0] * jn[2];
+            row[n + 2] = q[0] * jn[1] - q[1] * jn[0];
+            row[n + 3] = jn[0], row[n + 4] = jn[1], row[n + 5] = jn[2];
+            for (int a = 0; a < n; a++) {
+                double ra = wt * row[a];
+                pa->g[a] -= ra * rr;
+                for (int c = a; c < n; c++) pa->A[(size_t)a * n + c] += ra * row[c];
+                for (int c = 0; c < 6; c++) pa->B[(size_t)a * 6 + c] += ra * row[n + c];
+            }
+            for (int a = 0; a < 6; a++) {
+                pa->u[a] -= wt * row[n + a] * rr;
+                for (int c = 0; c < 6; c++) pa->C[6 * a + c] += wt * row[n + a] * row[n + c];
+            }
+            pa->rss += rr * rr, pa->pairs++;
+        }
+    for (int a = 0; a < n; a++)
+        for (int c = 0; c < a; c++) pa->A[(size_t)a * n + c] = pa->A[(size_t)c * n + a];
+    fr_raster_free(r);
+    return FRIG_OK;
+}
+
+/* The photo's pose moved by its step (turn om about the centre, then shift dt). */
+static void move_pose(fr_fit_result *r, const double step[6], const double centre[3]) {
+    double dR[9], R2[9], rel[3], rr[3];
+    fr_rotation_from_axis_angle(step, dR);
+    fr_mat3_mul(dR, r->R, R2);
+    for (int c = 0; c < 3; c++) rel[c] = r->t[c] - centre[c];
+    fr_mat3_apply(dR, rel, rr);
+    for (int c = 0; c < 3; c++) r->t[c] = rr[c] + centre[c] + step[3 + c];
+    memcpy(r->R, R2, sizeof R2);
+}
+
+frig_status fr_fit_outline(frig_ctx *ctx, const fr_fit_model *fm, const fr_outline_options *o, int n,
+                           const char *const *paths, const fr_fit_input *in, fr_fit_result *res, double *identity,
+                           double moved[2]) {
+    if (moved) moved[0] = moved[1] = 0;
+    if (o->iterations <= 0 || n <= 0 || fm->n_id <= 0) return FRIG_OK;
+    const frig_model *model = fm->model;
+    int nid = fm->n_id, nv = model->topo.vertex_count, threads = o->threads > 0 ? o->threads : 1;
+    size_t nv3 = 3 * (size_t)nv;
+    mesh m;
+    frig_status st = mesh_init(ctx, &model->topo, &m);
+    view *views = calloc((size_t)n, sizeof *views);
+    part *parts = calloc((size_t)n, sizeof *parts);
+    size_t scratch = 3 * nv3 + (size_t)model->identity_count + (size_t)model->expression_count + (size_t)nid + 6;
+    float *fbuf = malloc(sizeof(float) * 3 * nv3 * (size_t)threads);
+    double *dbuf = malloc(sizeof(double) * scratch * (size_t)threads);
+    double *S = malloc(sizeof(double) * ((size_t)nid * nid + nid)), *X = malloc(sizeof(double) * 6 * ((size_t)nid + 1));
+    double *store = malloc(sizeof(double) * ((size_t)nid * nid + (size_t)nid * 6 + nid) * (size_t)n);
+    if (!st && (!views || !parts || !fbuf || !dbuf || !S || !X || !store)) st = fr_nomem(ctx, "the outline fit");
+    for (int a = 0; a < n && !st; a++) {
+        double *p = store + ((size_t)nid * nid + (size_t)nid * 6 + nid) * (size_t)a;
+        parts[a].A = p, parts[a].B = p + (size_t)nid * nid, parts[a].g = parts[a].B + (size_t)nid * 6;
+    }
+    /* the crops, from the fit's poses */
+    int failed = 0, saved = fr_blas_serial_begin();
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int a = 0; a < n; a++) {
+        if (st || failed) continue;
+        int tid = omp_get_thread_num();
+        float *xyz = fbuf + 3 * nv3 * (size_t)tid;
+        double *id_full = dbuf + scratch * (size_t)tid, *ex_full = id_full + model->identity_count;
+        frig_ctx *local = frig_ctx_create(); /* a photo that cannot be read is left out */
+        if (!local) {
+            failed = 1;
+            continue;
+        }
+        if (pose_model(local, fm, identity, &res[a], id_full, ex_full, xyz) ||
+            view_build(local, &m, paths[a], in[a].width, in[a].height, &res[a], xyz, &views[a]))
+            views[a].ok = 0;
+        frig_ctx_free(local);
+    }
+    if (failed && !st) st = fr_nomem(ctx, "the outline fit");
+    double *step = malloc(sizeof(double) * ((size_t)nid + 1));
+    if (!step && !st) st = fr_nomem(ctx, "the outline fit");
+    for (int it = 0; it <= o->iterations && !st; it++) {
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+        for (int a = 0; a < n; a++) {
+            parts[a].pairs = 0;
+            if (st || failed || !views[a].ok) continue;
+            int tid = omp_get_thread_num();
+            float *xyz = fbuf + 3 * nv3 * (size_t)tid, *cam = xyz + nv3, *nrm = cam + nv3;
+            double *id_full = dbuf + scratch * (size_t)tid, *ex_full = id_full + model->identity_count;
+            double *row = ex_full + model->expression_count;
+            frig_ctx child;
+            fr_ctx_init_child(&child, ctx);
+            if (photo_part(&child, fm, &m, &views[a], &res[a], identity, id_full, ex_full, xyz, cam, nrm, row,
+                           &parts[a]))
+                failed = 1;
+        }
+        if (failed) {
+            st = fr_nomem(ctx, "the outline fit");
+            break;
+        }
+        double rss = 0;
+        long pairs = 0;
+        for (int a = 0; a < n; a++) rss += parts[a].rss, pairs += parts[a].pairs;
+        if (moved) moved[it == 0 ? 0 : 1] = pairs ? sqrt(rss / pairs) : 0;
+        if (it == 0 || it == o->iterations)
+            for (int a = 0; a < n; a++)
+                fr_log(ctx, FRIG_LOG_DEBUG, "fit: outline step %d, photo %d: %d pairs, RMS %.2f px", it, a, parts[a].pairs,
+                       parts[a].pairs ? sqrt(parts[a].rss / parts[a].pairs) : 0.0);
+        fr_log(ctx, FRIG_LOG_DEBUG, "fit: outline step %d: %ld outline pixels paired, RMS %.2f px", it,
+               pairs, pairs ? sqrt(rss / pairs) : 0.0);
+        if (it == o->iterations || !pairs) break;
+        /* The identity step: the poses eliminated photo by photo, summed in photo order. */
+        memset(S, 0, sizeof(double) * ((size_t)nid * nid + nid));
+        double *g = S + (size_t)nid * nid;
+        for (int a = 0; a < n && !st; a++) {
+            part *pa = &parts[a];
+            if (!pa->pairs) continue;
+            double C[36];
+            memcpy(C, pa->C, sizeof C);
+            for (int k = 0; k < 6; k++) C[7 * k] += 1e-6 * C[7 * k] + 1e-9;
+            for (int x = 0; x < nid; x++)
+                for (int y = 0; y < 6; y++) X[6 * x + y] = pa->B[(size_t)x * 6 + y];
+            memcpy(X + 6 * (size_t)nid, pa->u, sizeof pa->u);
+            if ((st = fr_solve_spd(ctx, 6, nid + 1, C, 6, X, 6))) break;
+            for (int x = 0; x < nid; x++) {
+                const double *bx = pa->B + (size_t)x * 6;
+                for (int y = 0; y < nid; y++) {
+                    const double *xy = X + 6 * (size_t)y;
+                    S[(size_t)x * nid + y] += pa->A[(size_t)x * nid + y] -
+                                              (bx[0] * xy[0] + bx[1] * xy[1] + bx[2] * xy[2] + bx[3] * xy[3] +
+                                               bx[4] * xy[4] + bx[5] * xy[5]);
+                }
+                const double *xu = X + 6 * (size_t)nid;
+                g[x] += pa->g[x] - (bx[0] * xu[0] + bx[1] * xu[1] + bx[2] * xu[2] + bx[3] * xu[3] + bx[4] * xu[4] +
+                                    bx[5] * xu[5]);
+            }
+        }
+        if (st) break;
+        for (int x = 0; x < nid; x++) S[(size_t)x * nid + x] += o->prior, g[x] -= o->prior * identity[x];
+        memcpy(step, g, sizeof(double) * (size_t)nid);
+        st = o->mean_size && fm->size_gradient ? fr_solve_size_held(ctx, nid, S, step, fm->size_gradient, 0.0)
+                                               : fr_solve_spd(ctx, nid, 1, S, nid, step, nid);
+        if (st) break;
+        /* each photo's pose: C dp = u - B' step */
+        for (int a = 0; a < n; a++) {
+            part *pa = &parts[a];
+            if (!pa->pairs) continue;
+            double C[36], b[6];
+            memcpy(C, pa->C, sizeof C);
+            for (int k = 0; k < 6; k++) C[7 * k] += 1e-6 * C[7 * k] + 1e-9;
+            for (int y = 0; y < 6; y++) {
+                b[y] = pa->u[y];
+                for (int x = 0; x < nid; x++) b[y] -= pa->B[(size_t)x * 6 + y] * step[x];
+            }
+            if ((st = fr_solve_spd(ctx, 6, 1, C, 6, b, 6))) break;
+            move_pose(&res[a], b, pa->centre);
+        }
+        for (int x = 0; x < nid && !st; x++) identity[x] += step[x];
+    }
+    fr_blas_serial_end(saved);
+    /* every photo's identity columns are the shared identity */
+    for (int a = 0; a < n && !st; a++) memcpy(res[a].w, identity, sizeof(double) * (size_t)nid);
+    for (int a = 0; views && a < n; a++) view_free(&views[a]);
+    free(views), free(parts), free(fbuf), free(dbuf), free(S), free(X), free(store), free(step);
+    mesh_free(&m);
+    return st;
+}
