@@ -251,8 +251,27 @@ static void test_photoset(frig_ctx *ctx, const frig_model *m) {
     frig_synth_subject_free(subj);
 }
 
-/* The face's scale that the residual unit and the fit_failed test use: the eye distance on a
- * frontal face, half the landmarks' height on a turned one whose eyes close up. */
+/* The mean rotation error of the fitted poses after the turn of the head frame common to all
+ * photos (R_fit = R_true Q: the identity's frame, which the photos cannot see), and that turn. */
+static double relative_rotation_error(double Rtrue[][9], const fr_fit_result *res, int n, double *turn_deg) {
+    double wm[3] = {0, 0, 0}, Q[9], e = 0;
+    for (int i = 0; i < n; i++) {
+        double Rt[9], D[9], w[3];
+        fr_mat3_transpose(Rtrue[i], Rt);
+        fr_mat3_mul(Rt, res[i].R, D);
+        fr_rotation_to_axis_angle(D, w);
+        for (int q = 0; q < 3; q++) wm[q] += w[q] / n;
+    }
+    fr_rotation_from_axis_angle(wm, Q);
+    for (int i = 0; i < n; i++) {
+        double RQ[9];
+        fr_mat3_mul(Rtrue[i], Q, RQ);
+        e += fr_rotation_angle_deg(res[i].R, RQ) / n;
+    }
+    *turn_deg = 57.29578 * sqrt(wm[0] * wm[0] + wm[1] * wm[1] + wm[2] * wm[2]);
+    return e;
+}
+
 /* The outline steps (outline_fit.c) after the progressive fit: the outlines come nearer the
  * photos' edges and the neutral nearer the truth, the same bytes at 1 and 2 threads. */
 static void test_outline(frig_ctx *ctx, const frig_model *m) {
@@ -296,11 +315,15 @@ static void test_outline(frig_ctx *ctx, const frig_model *m) {
         frig_model_eval(ctx, m, id[k], NULL, est);
         err[k] = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(d.truth), est, 9409);
     }
-    printf("outline steps: the outlines %.2f -> %.2f px from the photos' edges, neutral %.3f -> %.3f mm\n", moved[0],
-           moved[1], err[0], err[1]);
-    /* measured: 1.30 -> 0.88 px, 3.939 -> 3.828 mm (subject 4200, 16 photos of 320 px) */
+    double rot[2], turn[2];
+    for (int k = 0; k < 2; k++) rot[k] = relative_rotation_error(d.R, res[k], PHOTOS, &turn[k]);
+    printf("outline steps: the outlines %.2f -> %.2f px from the photos' edges, neutral %.3f -> %.3f mm, rotation "
+           "error after the photos' common turn %.2f -> %.2f deg (the turn %.2f -> %.2f deg)\n",
+           moved[0], moved[1], err[0], err[1], rot[0], rot[1], turn[0], turn[1]);
+    /* measured: 1.30 -> 0.93 px, 3.939 -> 3.710 mm (subject 4200, 16 photos of 320 px) */
     CHECK(moved[1] < 0.8 * moved[0]);
-    CHECK(err[1] < err[0] - 0.05);
+    CHECK(err[1] < err[0] - 0.1);
+    CHECK(rot[1] < rot[0] + 1.0); /* 1.97 -> 2.69: with nearly exact landmarks (2% of the eye distance) the outlines cost the poses a little */
     CHECK(memcmp(id[1], id[2], sizeof(double) * fm.n_id) == 0);
     for (int i = 0; i < PHOTOS; i++) CHECK(memcmp(res[1][i].R, res[2][i].R, sizeof res[1][i].R) == 0);
     free(est), free(w);
@@ -309,6 +332,8 @@ static void test_outline(frig_ctx *ctx, const frig_model *m) {
     fr_fit_model_free(&fm);
 }
 
+/* The face's scale that the residual unit and the fit_failed test use: the eye distance on a
+ * frontal face, half the landmarks' height on a turned one whose eyes close up. */
 static void test_face_scale(void) {
     double q[136];
     for (int k = 0; k < 68; k++) q[2 * k] = 100, q[2 * k + 1] = 100 + k; /* 67 px tall */
