@@ -40,6 +40,7 @@
 
 #define TUKEY_C 4.685
 #define INTENSITY_FLOOR 0.03
+#define ALBEDO_RATIO 4.0 /* texels whose albedo is above this many times the first albedo's mean do not set the lighting */
 #define VISIBLE_TOL 0.004
 #define MIN_COS 0.25
 #define MM 1e-3
@@ -435,18 +436,38 @@ static void update_albedo(mv *s, int threads) {
     }
 }
 
-/* Photo k's lighting refitted on the displaced surface and the texel albedo. */
+/* Per channel ALBEDO_RATIO times the mean of the first albedo (Algorithm 5's) over the texels. */
+static void albedo_cap(const mv *s, double cap[3]) {
+    cap[0] = cap[1] = cap[2] = 0;
+    for (int t = 0; t < s->nt; t++)
+        for (int c = 0; c < 3; c++) cap[c] += s->ps->albedo[3 * (size_t)s->uv->texel[t] + c];
+    for (int c = 0; c < 3; c++) cap[c] = ALBEDO_RATIO * fmax(cap[c] / (s->nt ? s->nt : 1), INTENSITY_FLOOR);
+}
+
+/* Whether texel t's albedo is under the cap in every channel. */
+static int albedo_plausible(const mv *s, int t, const double cap[3]) {
+    return s->albedo[3 * t] <= cap[0] && s->albedo[3 * t + 1] <= cap[1] && s->albedo[3 * t + 2] <= cap[2];
+}
+
+/* Photo k's lighting refitted on the displaced surface and the texel albedo. Texels whose albedo
+ * is far above the first albedo's mean are left out: where every photo shades a texel nearly
+ * black (S -> 0 at the edge of a light) the albedo update's I / S grows without bound, and the
+ * lighting refitted on such texels shrank a whole channel round after round (five LFW photos:
+ * blue albedo 1e8, the lighting's 1e-7, no point kept). The albedo itself is left free: it also
+ * takes the highlights a photo or two show, and capping it moved the poses (tests/test_sfs.c). */
 static void update_lighting(mv *s, int k, frig_ctx *ctx) {
     const photo_texels *p = &s->pt[k];
+    double cap[3];
+    albedo_cap(s, cap);
     int n = 0;
-    for (int t = 0; t < s->nt; t++) n += p->w[t] > 0;
+    for (int t = 0; t < s->nt; t++) n += p->w[t] > 0 && albedo_plausible(s, t, cap);
     if (n < 50) return;
     float *I = malloc(sizeof(float) * 3 * (size_t)n), *a = malloc(sizeof(float) * 3 * (size_t)n);
     float *nc = malloc(sizeof(float) * 3 * (size_t)n), *w = malloc(sizeof(float) * (size_t)n);
     if (I && a && nc && w) {
         int j = 0;
         for (int t = 0; t < s->nt; t++) {
-            if (!(p->w[t] > 0)) continue;
+            if (!(p->w[t] > 0) || !albedo_plausible(s, t, cap)) continue;
             double N[3], c[3];
             if (!texel_normal(s, s->D, k, t, N, NULL))
                 for (int q = 0; q < 3; q++) N[q] = p->n[3 * t + q];
