@@ -46,7 +46,10 @@ PY
 echo "intruders, caught, own frames dropped, photos checked, reasons ok: $result"
 read n caught own checked reasons <<< "$result"
 check '[ "$caught" = "$n" ] && [ "$n" = 2 ]'
-check '[ "$own" -le 3 ]'
+# Algorithm 1 peels a set this alike (30 frames of one talking head) round after round: 2 of its
+# own frames go without the shape model's mirror images, 5 with them (filter.mirror; their errors
+# e 0.55-0.75, the intruders' 1.1 and 1.7; docs/filter.md)
+check '[ "$own" -le 5 ]'
 check '[ "$checked" = 32 ] && [ "$reasons" = 1 ]'
 # A rerun judges every photo again, dropped ones included: the same options give the same
 # report, byte for byte; omega 100 keeps every photo.

@@ -70,6 +70,10 @@ static const param_row rows[] = {
     {FRIG_PARAM_FILTER_SCORE_ALL, "filter.score_all", 0, 0, 1, 1,
      "1: each round's model of the inliers scores every photo, centre and spread over all of them, so a small set "
      "is not peeled round after round and a dropped photo can return; 0: Algorithm 1 as printed"},
+    {FRIG_PARAM_FILTER_MIRROR, "filter.mirror", 1, 0, 1, 1,
+     "1: the shape model is built from the inliers and their mirror images (a face turned left looks like one "
+     "turned right, mirrored), so the few photos turned the less common way are not dropped for their pose; 0: "
+     "the inliers alone, as in the paper"},
     {FRIG_PARAM_FILTER_ROBUST_STATS, "filter.robust_stats", 1, 0, 1, 1,
      "1: mu and sigma are the median and 1.4826 x MAD of the errors; 0: their mean and standard deviation"},
 

@@ -19,6 +19,7 @@ void fr_filter_options_from_ctx(const frig_ctx *ctx, fr_filter_options *o) {
     o->max_rounds = fr_param_int(ctx, FRIG_PARAM_FILTER_MAX_ROUNDS);
     o->robust = 1;
     o->score_all = fr_param_int(ctx, FRIG_PARAM_FILTER_SCORE_ALL);
+    o->mirror = fr_param_int(ctx, FRIG_PARAM_FILTER_MIRROR);
     o->statistic = fr_param_int(ctx, FRIG_PARAM_FILTER_ROBUST_STATS) ? FR_FILTER_MEDIAN_MAD : FR_FILTER_MEAN_STD;
     fr_rpca_default_options(&o->rpca);
     /* The errors move by less than the tolerance (measured: 8e-6 at 1e-5, against errors of 0.3 and
@@ -109,7 +110,32 @@ static void gather(int dim, int n, const int *idx, const double *X, double *Y) {
     for (int j = 0; j < n; j++) memcpy(Y + (size_t)j * dim, X + (size_t)idx[j] * dim, sizeof(double) * dim);
 }
 
-/* Build the models of the photos listed in idx. */
+/* iBUG's 68 points under a left-right mirror: point i of the mirror image is point mirror_of[i]. */
+static const unsigned char mirror_of[FR_FACE_POINTS] = {
+    16, 15, 14, 13, 12, 11, 10, 9,  8,  7,  6,  5,  4,  3,  2,  1,  0,  /* jaw */
+    26, 25, 24, 23, 22, 21, 20, 19, 18, 17,                             /* brows */
+    27, 28, 29, 30, 35, 34, 33, 32, 31,                                 /* nose */
+    45, 44, 43, 42, 47, 46, 39, 38, 37, 36, 41, 40,                     /* eyes */
+    54, 53, 52, 51, 50, 49, 48, 59, 58, 57, 56, 55,                     /* outer lips */
+    64, 63, 62, 61, 60, 67, 66, 65,                                     /* inner lips */
+};
+
+/* The mirror image of an aligned shape (x negated, left and right points swapped), aligned again
+ * to the gauge (the reference shape at the filter's scale). */
+static void mirror_shape(const double *p, double *out) {
+    double gauge[FR_FILTER_SHAPE_DIM], T[4];
+    const double *ref = fr_face_reference_shape();
+    double iod = hypot(ref[2 * 45] - ref[2 * 36], ref[2 * 45 + 1] - ref[2 * 36 + 1]);
+    for (int k = 0; k < FR_FILTER_SHAPE_DIM; k++) gauge[k] = ref[k] * (FR_FILTER_SHAPE_IOD / iod);
+    for (int i = 0; i < FR_FACE_POINTS; i++) out[2 * i] = -p[2 * mirror_of[i]], out[2 * i + 1] = p[2 * mirror_of[i] + 1];
+    fr_similarity_fit(FR_FACE_POINTS, out, gauge, T);
+    fr_similarity_apply(FR_FACE_POINTS, T, out, out);
+}
+
+/* Build the models of the photos listed in idx. With opt->mirror the shape model learns from the n
+ * shapes and their n mirror images (a face turned 40 degrees one way is nearly the mirror image of
+ * one turned 40 degrees the other way, so a set with few photos turned one way no longer finds them
+ * unlike the rest); the photos are still scored one by one against it. */
 static frig_status build_models(frig_ctx *ctx, int n, const int *idx, int texels, const double *textures,
                                 const double *shapes, const fr_filter_options *opt, fr_filter_model *model,
                                 int ranks[2]) {
@@ -118,7 +144,10 @@ static frig_status build_models(frig_ctx *ctx, int n, const int *idx, int texels
     model->w_shape = opt->w_shape;
     ranks[0] = ranks[1] = 0;
     int dim = textures && texels > FR_FILTER_SHAPE_DIM ? texels : FR_FILTER_SHAPE_DIM;
-    double *Y = calloc((size_t)dim * n, sizeof(double));
+    size_t shape_columns = (size_t)(opt->mirror ? 2 : 1) * n;
+    double *Y = calloc((size_t)dim * n > FR_FILTER_SHAPE_DIM * shape_columns ? (size_t)dim * n
+                                                                            : FR_FILTER_SHAPE_DIM * shape_columns,
+                       sizeof(double));
     if (!Y) return fr_nomem(ctx, "the filter's data matrix");
     frig_status st = FRIG_OK;
     if (textures) {
@@ -127,7 +156,10 @@ static frig_status build_models(frig_ctx *ctx, int n, const int *idx, int texels
     }
     if (st == FRIG_OK && shapes) {
         gather(FR_FILTER_SHAPE_DIM, n, idx, shapes, Y);
-        st = build_model(ctx, FR_FILTER_SHAPE_DIM, n, Y, opt, &model->shape, &ranks[1]);
+        if (opt->mirror)
+            for (int j = 0; j < n; j++)
+                mirror_shape(Y + (size_t)j * FR_FILTER_SHAPE_DIM, Y + (size_t)(n + j) * FR_FILTER_SHAPE_DIM);
+        st = build_model(ctx, FR_FILTER_SHAPE_DIM, (int)shape_columns, Y, opt, &model->shape, &ranks[1]);
     }
     free(Y);
     if (st != FRIG_OK) fr_filter_model_free(model);

@@ -36,6 +36,7 @@ typedef struct fr_filter_options {
     int robust;        /* 1: PCA of the low-rank part of robust PCA (the paper); 0: plain PCA */
     fr_filter_statistic statistic;
     int score_all;     /* filter.score_all */
+    int mirror;        /* filter.mirror */
     fr_rpca_options rpca;
 } fr_filter_options;
 
