@@ -183,7 +183,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_MIN_AGREEMENT = 612,     /* sfs_failed below this albedo correlation with the subject's (default 0.1) */
     FRIG_PARAM_SFS_MIN_POINTS = 613,        /* sfs_failed with fewer cloud points (default 500) */
     FRIG_PARAM_SFS_TEXTURE_SIZE = 614,      /* side of the UV albedo texture (default 512) */
-    FRIG_PARAM_SFS_POSE = 615,              /* 1: refine each photo's pose against its depth (default 1) */
+    FRIG_PARAM_SFS_POSE = 615,              /* 1: refine each photo's pose against its depth by ICP (default 0) */
     FRIG_PARAM_SFS_TRANSFER = 616,          /* Reinhard colour transfer of the albedo to each photo: 0 off, 1 means, 2 means and spreads (default 0) */
     FRIG_PARAM_SFS_W_PRIOR = 617,           /* normals held to the multi-view shape's normals (default 10) */
     FRIG_PARAM_SFS_SHAPE_SIZE = 618,        /* side of the UV grid of the shape shared by all photos (default 128) */
