@@ -96,7 +96,7 @@ static const param_row rows[] = {
      "joint identity prior: this fraction of the selected photos' mean identity (1: the paper; 0: the model mean)"},
     {FRIG_PARAM_FIT_MEAN_SIZE, "fit.mean_size", 1, 0, 1, 1,
      "1: the identity keeps the mean face's size, in the fit's joint identity and retarget's identity from the clouds (photos do not show a head's size; the landmarks' bias would set it)"},
-    {FRIG_PARAM_FIT_OUTLINE_ITERATIONS, "fit.outline_iterations", 4, 0, 50, 1,
+    {FRIG_PARAM_FIT_OUTLINE_ITERATIONS, "fit.outline_iterations", 8, 0, 50, 1,
      "Gauss-Newton steps of the identity and every photo's pose from the photos' outlines (where the head is "
      "seen edge-on against the background) after the landmark fit; 0: off"},
     {FRIG_PARAM_FIT_OUTLINE_PRIOR, "fit.outline_prior", 100, 0.01, 1e6, 0,
