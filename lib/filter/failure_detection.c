@@ -33,12 +33,18 @@ void fr_filter_model_free(fr_filter_model *m) {
     fr_pca_free(&m->shape);
 }
 
-frig_status fr_filter_align_shapes(frig_ctx *ctx, int count, const double *landmarks, double *aligned,
-                                   double *mean) {
+/* The reference shape at the filter's scale (outer eye corners FR_FILTER_SHAPE_IOD apart): the
+ * frame the shapes are aligned to. */
+static void filter_gauge(double gauge[FR_FILTER_SHAPE_DIM]) {
     const double *ref = fr_face_reference_shape();
-    double gauge[FR_FILTER_SHAPE_DIM], own_mean[FR_FILTER_SHAPE_DIM];
     double iod = hypot(ref[2 * 45] - ref[2 * 36], ref[2 * 45 + 1] - ref[2 * 36 + 1]);
     for (int k = 0; k < FR_FILTER_SHAPE_DIM; k++) gauge[k] = ref[k] * (FR_FILTER_SHAPE_IOD / iod);
+}
+
+frig_status fr_filter_align_shapes(frig_ctx *ctx, int count, const double *landmarks, double *aligned,
+                                   double *mean) {
+    double gauge[FR_FILTER_SHAPE_DIM], own_mean[FR_FILTER_SHAPE_DIM];
+    filter_gauge(gauge);
     return fr_procrustes_align(ctx, FR_FACE_POINTS, count, landmarks, gauge, aligned, mean ? mean : own_mean, NULL);
 }
 
@@ -121,12 +127,9 @@ static const unsigned char mirror_of[FR_FACE_POINTS] = {
 };
 
 /* The mirror image of an aligned shape (x negated, left and right points swapped), aligned again
- * to the gauge (the reference shape at the filter's scale). */
-static void mirror_shape(const double *p, double *out) {
-    double gauge[FR_FILTER_SHAPE_DIM], T[4];
-    const double *ref = fr_face_reference_shape();
-    double iod = hypot(ref[2 * 45] - ref[2 * 36], ref[2 * 45 + 1] - ref[2 * 36 + 1]);
-    for (int k = 0; k < FR_FILTER_SHAPE_DIM; k++) gauge[k] = ref[k] * (FR_FILTER_SHAPE_IOD / iod);
+ * to the gauge (filter_gauge). */
+static void mirror_shape(const double *p, const double *gauge, double *out) {
+    double T[4];
     for (int i = 0; i < FR_FACE_POINTS; i++) out[2 * i] = -p[2 * mirror_of[i]], out[2 * i + 1] = p[2 * mirror_of[i] + 1];
     fr_similarity_fit(FR_FACE_POINTS, out, gauge, T);
     fr_similarity_apply(FR_FACE_POINTS, T, out, out);
@@ -156,9 +159,10 @@ static frig_status build_models(frig_ctx *ctx, int n, const int *idx, int texels
     }
     if (st == FRIG_OK && shapes) {
         gather(FR_FILTER_SHAPE_DIM, n, idx, shapes, Y);
-        if (opt->mirror)
-            for (int j = 0; j < n; j++)
-                mirror_shape(Y + (size_t)j * FR_FILTER_SHAPE_DIM, Y + (size_t)(n + j) * FR_FILTER_SHAPE_DIM);
+        double gauge[FR_FILTER_SHAPE_DIM];
+        filter_gauge(gauge);
+        for (int j = 0; opt->mirror && j < n; j++)
+            mirror_shape(Y + (size_t)j * FR_FILTER_SHAPE_DIM, gauge, Y + (size_t)(n + j) * FR_FILTER_SHAPE_DIM);
         st = build_model(ctx, FR_FILTER_SHAPE_DIM, (int)shape_columns, Y, opt, &model->shape, &ranks[1]);
     }
     free(Y);

@@ -62,7 +62,7 @@ static int gather(const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *
         double cosv = -(nc[0] * ray[0] + nc[1] * ray[1] + nc[2] * ray[2]) / sqrt(ray[0] * ray[0] + ray[1] * ray[1] + 1);
         if (cosv < MIN_COS) continue;
         obs *ob = &o[n++];
-        fr_sfs_bilinear(v->I, v->w, v->h, xy, ob->I);
+        fr_bilinear3(v->I, v->w, v->h, xy, ob->I);
         fr_sfs_shading(v->sh, nc, ob->S);
         double mean = (ob->I[0] + ob->I[1] + ob->I[2]) / 3;
         ob->scale = sigma * (mean > INTENSITY_FLOOR ? mean : INTENSITY_FLOOR);

@@ -144,7 +144,7 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
                 continue;
             if (xy[0] < 1 || xy[1] < 1 || xy[0] > v->w - 2 || xy[1] > v->h - 2)
                 continue;
-            fr_sfs_bilinear(v->I, v->w, v->h, xy, I);
+            fr_bilinear3(v->I, v->w, v->h, xy, I);
             if (H) {
                 fr_sfs_image_gradient(v->I, v->w, v->h, xy, gx, gy);
                 double J[6];

@@ -97,6 +97,7 @@ typedef struct mv {
     double *D_try, *delta, *rhs;
     float *albedo;      /* 3 per texel */
     float *albedo_try;  /* 3 per texel */
+    double albedo_cap[3]; /* per channel: texels above it do not set the lighting (albedo_cap()) */
     texel_eqs eq[2];    /* the texels' equations at D (eq[cur]) and at the tried step */
     int cur;
     size_t *damped;     /* per texel: its diagonal triplet holding w_anchor + mu */
@@ -167,7 +168,7 @@ static void photo_sample(mv *s, int k) {
         double cosv = -(nc[0] * ray[0] + nc[1] * ray[1] + nc[2] * ray[2]) / rl;
         if (cosv < MIN_COS) continue;
         double smp[3];
-        fr_sfs_bilinear(v->I, v->w, v->h, xy, smp);
+        fr_bilinear3(v->I, v->w, v->h, xy, smp);
         for (int c = 0; c < 3; c++) p->I[3 * (size_t)t + c] = (float)smp[c], p->dI[3 * (size_t)t + c] = 0;
         if (s->o->w_stereo > 0) {
             /* the image's gradient along the texel's projected path as D changes */
@@ -457,8 +458,7 @@ static int albedo_plausible(const mv *s, int t, const double cap[3]) {
  * takes the highlights a photo or two show, and capping it moved the poses (tests/test_sfs.c). */
 static void update_lighting(mv *s, int k, frig_ctx *ctx) {
     const photo_texels *p = &s->pt[k];
-    double cap[3];
-    albedo_cap(s, cap);
+    const double *cap = s->albedo_cap;
     int n = 0;
     for (int t = 0; t < s->nt; t++) n += p->w[t] > 0 && albedo_plausible(s, t, cap);
     if (n < 50) return;
@@ -499,7 +499,7 @@ static double pose_terms(const mv *s, int k, const double R[9], const double tv[
         if (!fr_camera_project(&v->cam, Xc, xy)) continue;
         if (xy[0] < 1 || xy[1] < 1 || xy[0] > v->w - 2 || xy[1] > v->h - 2) continue;
         double I[3], S[3], nc[3], y[FR_SH_COUNT], dy[3 * FR_SH_COUNT];
-        fr_sfs_bilinear(v->I, v->w, v->h, xy, I);
+        fr_bilinear3(v->I, v->w, v->h, xy, I);
         fr_mat3_apply(R, N, nc);
         fr_sh_basis_gradient(nc, y, dy);
         double sc = s->o->sigma * fmax((I[0] + I[1] + I[2]) / 3.0, INTENSITY_FLOOR);
@@ -778,6 +778,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     mv s;
     memset(&s, 0, sizeof s);
     s.ps = ps, s.m = m, s.uv = uv, s.views = views, s.nviews = nviews, s.use = use, s.o = o, s.nt = uv->count;
+    albedo_cap(&s, s.albedo_cap);
     int T = uv->size, threads = fr_threads(ctx);
     size_t nt = (size_t)s.nt + 1;
     s.pt = calloc((size_t)nviews + 1, sizeof *s.pt);

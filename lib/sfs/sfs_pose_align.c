@@ -273,7 +273,7 @@ static double edge_strength(const level *L, const double xy[2], const double nu[
     /* crop pixel x is reduced cell (x - (d - 1) / 2) / d; the difference spans one cell */
     double o = 0.5 * (L->d - 1), c[2] = {(xy[0] - o) / L->d, (xy[1] - o) / L->d};
     double a[3], b[3], xa[2] = {c[0] + nu[0], c[1] + nu[1]}, xb[2] = {c[0] - nu[0], c[1] - nu[1]};
-    fr_sfs_bilinear(L->Ib, L->w, L->h, xa, a), fr_sfs_bilinear(L->Ib, L->w, L->h, xb, b);
+    fr_bilinear3(L->Ib, L->w, L->h, xa, a), fr_bilinear3(L->Ib, L->w, L->h, xb, b);
     return fabs(a[0] - b[0]) + fabs(a[1] - b[1]) + fabs(a[2] - b[2]);
 }
 
@@ -362,7 +362,7 @@ static frig_status warp(frig_ctx *ctx, level *L, const double A[9], const double
         for (int c = 0; c < 3; c++)
             X[c] = q[c] + tc[c];
         if (!fr_camera_project(&L->cam, X, xy)) continue;
-        fr_sfs_bilinear(L->I, L->w, L->h, xy, I);
+        fr_bilinear3(L->I, L->w, L->h, xy, I);
         for (int c = 0; c < 3; c++)
             L->Iw[3 * c0 + c] = (float)(L->Mc[c0] * I[c]);
     }

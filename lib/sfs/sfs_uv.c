@@ -117,9 +117,9 @@ int fr_sfs_texture_sample(const float *tex, const float *weight, int T, int dim,
 
 void fr_sfs_image_gradient(const float *img, int w, int h, const double xy[2], double gx[3], double gy[3]) {
     double a[3], b[3], xa[2] = {xy[0] + 1, xy[1]}, xb[2] = {xy[0] - 1, xy[1]};
-    fr_sfs_bilinear(img, w, h, xa, a), fr_sfs_bilinear(img, w, h, xb, b);
+    fr_bilinear3(img, w, h, xa, a), fr_bilinear3(img, w, h, xb, b);
     for (int c = 0; c < 3; c++) gx[c] = 0.5 * (a[c] - b[c]);
     xa[0] = xb[0] = xy[0], xa[1] = xy[1] + 1, xb[1] = xy[1] - 1;
-    fr_sfs_bilinear(img, w, h, xa, a), fr_sfs_bilinear(img, w, h, xb, b);
+    fr_bilinear3(img, w, h, xa, a), fr_bilinear3(img, w, h, xb, b);
     for (int c = 0; c < 3; c++) gy[c] = 0.5 * (a[c] - b[c]);
 }

@@ -34,14 +34,6 @@ int fr_sfs_uv_locate(const fr_sfs_uv *uv, const fr_sfs_mesh *m, const fr_sfs_vie
  * interpolated); 0 when the pixel shows no face triangle. */
 int fr_sfs_uv_at_pixel(const fr_sfs_mesh *m, const fr_sfs_view *v, size_t pixel, double uv[2]);
 
-static inline int fr_sfs_clamp_index(int v, int n) { return fr_clamp_index(v, n); }
-
-/* Bilinear sample of a w x h RGB image (3 floats per pixel) at crop point xy, the border
- * repeated (image/bilinear.h). */
-static inline void fr_sfs_bilinear(const float *img, int w, int h, const double xy[2], double out[3]) {
-    fr_bilinear3(img, w, h, xy, out);
-}
-
 /* The image's central-difference gradient at crop point xy (bilinear samples one pixel either
  * side), per channel: gx along x, gy along y. */
 void fr_sfs_image_gradient(const float *img, int w, int h, const double xy[2], double gx[3], double gy[3]);
