@@ -275,10 +275,11 @@ static void where_report(frig_ctx *ctx, const char *name, const frig_rig *truth,
         band[b] += sqrt(m), nb[b]++;
     }
     printf("where %-22s scale %.4f shift %.2f mm turn %.2f deg | aligned %.3f: normal %.3f tangential %.3f | smooth %.3f "
-           "rest %.3f | by height (chin..top) %.2f %.2f %.2f %.2f\n",
+           "rest %.3f | by height (chin..top) %.2f %.2f %.2f %.2f (shares %.2f %.2f %.2f %.2f)\n",
            name, sc, 1e3 * sqrt(tt[0] * tt[0] + tt[1] * tt[1] + tt[2] * tt[2]), rot, 1e3 * all / nf, 1e3 * dn / nf,
            1e3 * dt / nf, 1e3 * low / nf, 1e3 * high / nf, 1e3 * band[0] / nb[0], 1e3 * band[1] / nb[1],
-           1e3 * band[2] / nb[2], 1e3 * band[3] / nb[3]);
+           1e3 * band[2] / nb[2], 1e3 * band[3] / nb[3], (double)nb[0] / nf, (double)nb[1] / nf, (double)nb[2] / nf,
+           (double)nb[3] / nf);
     free(nrm), free(e), free(lo), free(acc);
 }
 

@@ -143,7 +143,7 @@ typedef enum frig_param {
 
     /* fit (sections 4.3-4.4, Algorithm 2) */
     FRIG_PARAM_FIT_W_EXP = 400,             /* expression prior (default 10) */
-    FRIG_PARAM_FIT_W_SPARSE = 401,          /* L1 expression sparsity (default 1000) */
+    FRIG_PARAM_FIT_W_SPARSE = 401,          /* L1 expression sparsity (default 100) */
     FRIG_PARAM_FIT_W_ID = 402,              /* identity prior (default 20) */
     FRIG_PARAM_FIT_ROUNDS = 403,            /* progressive rounds (default 3) */
     FRIG_PARAM_FIT_SUBSET_FIRST = 404,      /* fraction in the first joint fit (default 0.4) */
@@ -170,10 +170,10 @@ typedef enum frig_param {
 
     /* sfs (section 5.1, Algorithms 4-5; docs/sfs.md) */
     FRIG_PARAM_SFS_FACE_PX = 600,           /* the face's longer side in the crop at most, pixels (default 160) */
-    FRIG_PARAM_SFS_ROUNDS = 601,            /* rounds of the shape shared by all photos (default 6) */
-    FRIG_PARAM_SFS_ITERATIONS = 602,        /* Gauss-Newton iterations of each photo's depth (default 3) */
+    FRIG_PARAM_SFS_ROUNDS = 601,            /* rounds of the shape shared by all photos (default 4) */
+    FRIG_PARAM_SFS_ITERATIONS = 602,        /* Gauss-Newton iterations of each photo's depth (default 2) */
     FRIG_PARAM_SFS_W_NORMAL = 604,          /* smoothness of the normals' change (default 1) */
-    FRIG_PARAM_SFS_W_ANCHOR = 605,          /* eq. 5.13: depth held to the reference depth (default 100) */
+    FRIG_PARAM_SFS_W_ANCHOR = 605,          /* eq. 5.13: depth held to the reference depth (default 1000) */
     FRIG_PARAM_SFS_SIGMA = 606,             /* data residual scale, relative intensity (default 0.02) */
     FRIG_PARAM_SFS_E_MAX = 607,             /* eq. 5.15 E_max, relative intensity error (default 0.07) */
     FRIG_PARAM_SFS_D_MAX = 608,             /* eq. 5.15 d_max, mm from the reference depth (default 5) */
@@ -216,7 +216,7 @@ typedef enum frig_param {
     FRIG_PARAM_EXPORT_TEXTURE_SIZE = 951,   /* side of the painted eye textures; 0: flat colours (default 512) */
 
     /* retarget (sections 5.2-5.3, Algorithms 3, 6, 7) */
-    FRIG_PARAM_RETARGET_ITERATIONS = 700,        /* outer rounds: refit, clouds, retarget (default 3) */
+    FRIG_PARAM_RETARGET_ITERATIONS = 700,        /* outer rounds: refit, clouds, retarget (default 1; the paper runs 3) */
     FRIG_PARAM_RETARGET_INNER_ITERATIONS = 701,  /* Algorithm 6: correspondence, neutral, shapes (default 1) */
     FRIG_PARAM_RETARGET_ALTERNATIONS = 702,      /* blendshapes <-> weights per inner iteration (default 2) */
     FRIG_PARAM_RETARGET_W_DATA = 703,            /* eq. 5.16 w_d (default 1) */

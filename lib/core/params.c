@@ -119,9 +119,9 @@ static const param_row rows[] = {
     /* sfs (docs/sfs.md) */
     {FRIG_PARAM_SFS_FACE_PX, "sfs.face_px", 160, 16, 4096, 1,
      "shape from shading works on a crop whose face (longer side) is at most this many pixels"},
-    {FRIG_PARAM_SFS_ROUNDS, "sfs.rounds", 6, 0, 20, 1,
+    {FRIG_PARAM_SFS_ROUNDS, "sfs.rounds", 4, 0, 20, 1,
      "rounds of the shape shared by all photos (albedo, displacement, lighting; Algorithm 4's outer loop); 0: none"},
-    {FRIG_PARAM_SFS_ITERATIONS, "sfs.iterations", 3, 1, 100, 1, "Gauss-Newton iterations of each photo's depth"},
+    {FRIG_PARAM_SFS_ITERATIONS, "sfs.iterations", 2, 1, 100, 1, "Gauss-Newton iterations of each photo's depth"},
     {FRIG_PARAM_SFS_W_NORMAL, "sfs.w_normal", 1, 0, 1e9, 0,
      "weight keeping the change of the normals smooth (second differences of the depth correction)"},
     {FRIG_PARAM_SFS_W_ANCHOR, "sfs.w_anchor", 1000, 0, 1e9, 0,
