@@ -369,7 +369,7 @@ int main(int argc, char **argv) {
         double R2[9], t2[3];
         memcpy(R2, v->R, sizeof R2), memcpy(t2, v->t, sizeof t2);
         if (st.pose && v->kept_pixels >= 50) fr_sfs_refine_pose(ctx, &run.mesh, v, R2, t2);
-        if (st.cloud_region) fr_sfs_region_narrow(v);
+        if (st.cloud_region) fr_sfs_region_narrow(v, 0); /* the cloud only: the scores are of the clouds */
         size_t npx = (size_t)v->w * v->h;
         if (tr.mask)
             for (size_t q = 0; q < npx; q++) {

@@ -94,6 +94,44 @@ int main(void) {
     }
     frig_clouds_free(back);
     back = NULL;
+
+    /* A margin: after the cloud's points in the arrays, in clouds/margin/ on disk, the cloud's own
+     * file unchanged; gone from disk when the cloud loses it, and with frig_clouds_set. */
+    snprintf(path, sizeof path, "%s/clouds/photo_001.ply", ws);
+    size_t plain_size = 0;
+    unsigned char *plain = test_read_file(path, &plain_size);
+    CHECK(frig_clouds_set_margin(ctx, c, 1, 3, xyz, nrm, conf) == FRIG_ERR_INVALID_ARGUMENT); /* no cloud */
+    CHECK(frig_clouds_set_margin(ctx, c, 0, 5, xyz + 60, nrm, NULL) == FRIG_ERR_INVALID_ARGUMENT);
+    CHECK(frig_clouds_set_margin(ctx, c, 0, 5, xyz + 60, nrm + 60, conf + 20) == FRIG_OK);
+    CHECK(frig_clouds_count(c, 0) == N && frig_clouds_margin_count(c, 0) == 5 && frig_clouds_margin_count(c, 2) == 0);
+    CHECK(frig_clouds_xyz(c, 0)[3 * N] == xyz[60] && frig_clouds_confidence(c, 0)[N + 4] == conf[24]);
+    CHECK(frig_clouds_xyz(c, 0)[0] == xyz[0]);
+    CHECK(frig_clouds_save(ctx, c, set, ws) == FRIG_OK);
+    size_t again_size = 0;
+    unsigned char *again = test_read_file(path, &again_size);
+    CHECK(plain && again && again_size == plain_size && memcmp(plain, again, plain_size) == 0);
+    free(plain), free(again);
+    snprintf(path, sizeof path, "%s/clouds/margin/photo_001.ply", ws);
+    CHECK(access(path, F_OK) == 0);
+    snprintf(path, sizeof path, "%s/clouds/margin/photo_001_2_2.ply", ws);
+    CHECK(access(path, F_OK) != 0); /* photo 2 has no margin */
+    CHECK(frig_clouds_load(ctx, set, ws, &back) == FRIG_OK);
+    CHECK(back && frig_clouds_count(back, 0) == N && frig_clouds_margin_count(back, 0) == 5 &&
+          frig_clouds_margin_count(back, 2) == 0);
+    if (back && frig_clouds_margin_count(back, 0) == 5) {
+        CHECK(memcmp(frig_clouds_xyz(back, 0), xyz, sizeof(float) * 3 * N) == 0);
+        CHECK(memcmp(frig_clouds_xyz(back, 0) + 3 * N, xyz + 60, sizeof(float) * 15) == 0);
+        CHECK(memcmp(frig_clouds_normals(back, 0) + 3 * N, nrm + 60, sizeof(float) * 15) == 0);
+        CHECK(memcmp(frig_clouds_confidence(back, 0) + N, conf + 20, sizeof(float) * 5) == 0);
+    }
+    frig_clouds_free(back);
+    back = NULL;
+    CHECK(frig_clouds_set_margin(ctx, c, 0, 0, NULL, NULL, NULL) == FRIG_OK && frig_clouds_margin_count(c, 0) == 0);
+    CHECK(frig_clouds_save(ctx, c, set, ws) == FRIG_OK);
+    snprintf(path, sizeof path, "%s/clouds/margin/photo_001.ply", ws);
+    CHECK(access(path, F_OK) != 0); /* a margin lost on a rerun leaves no old file */
+    CHECK(frig_clouds_set_margin(ctx, c, 2, 2, xyz, nrm, conf) == FRIG_OK && frig_clouds_margin_count(c, 2) == 2);
+    CHECK(frig_clouds_set(ctx, c, 2, 3, xyz + 30, nrm, conf) == FRIG_OK && frig_clouds_margin_count(c, 2) == 0);
     CHECK(frig_clouds_set(ctx, c, 0, 0, NULL, NULL, NULL) == FRIG_OK && frig_clouds_count(c, 0) == 0);
 
     /* Other PLY layouts: doubles, extra properties, no normals or confidence. */

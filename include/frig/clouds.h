@@ -7,6 +7,11 @@
  * On disk: WORKSPACE/clouds/<photo file stem>.ply, binary little-endian PLY with float
  * x y z nx ny nz confidence (docs/workspace.md). A stem shared by two photos of the set gets
  * _2, _3, ... in photo order (frig_clouds_file_name).
+ *
+ * A photo's cloud may have a margin: points beyond the narrow face (neck, ears, scalp), read at
+ * grazing angles and less accurate, which the retarget stage still uses for the shape they
+ * cover. They are kept apart (WORKSPACE/clouds/margin/<same name>.ply) so that the cloud itself
+ * holds only the face's own points.
  */
 #ifndef FRIG_CLOUDS_H
 #define FRIG_CLOUDS_H
@@ -28,9 +33,15 @@ FRIG_API size_t frig_clouds_photo_count(const frig_clouds *clouds);
  * confidence one (all three required when count > 0); count 0 removes the cloud. */
 FRIG_API frig_status frig_clouds_set(frig_ctx *ctx, frig_clouds *clouds, size_t photo, size_t count,
                                      const float *xyz, const float *normals, const float *confidence);
-/* Points of photo's cloud (0 when it has none or photo is out of range). */
+/* Replace the margin of photo's cloud (which must have points) with a copy of count points,
+ * laid out as for frig_clouds_set; count 0 removes it. frig_clouds_set removes the margin. */
+FRIG_API frig_status frig_clouds_set_margin(frig_ctx *ctx, frig_clouds *clouds, size_t photo, size_t count,
+                                            const float *xyz, const float *normals, const float *confidence);
+/* Points of photo's cloud (0 when it has none or photo is out of range), and of its margin. */
 FRIG_API size_t frig_clouds_count(const frig_clouds *clouds, size_t photo);
-/* Borrowed arrays, valid until the cloud is set again or freed; NULL when it has no points. */
+FRIG_API size_t frig_clouds_margin_count(const frig_clouds *clouds, size_t photo);
+/* Borrowed arrays, valid until the cloud is set again or freed; NULL when it has no points.
+ * They hold frig_clouds_count points of the cloud, then frig_clouds_margin_count of its margin. */
 FRIG_API const float *frig_clouds_xyz(const frig_clouds *clouds, size_t photo);
 FRIG_API const float *frig_clouds_normals(const frig_clouds *clouds, size_t photo);
 FRIG_API const float *frig_clouds_confidence(const frig_clouds *clouds, size_t photo);
@@ -41,13 +52,15 @@ FRIG_API const float *frig_clouds_confidence(const frig_clouds *clouds, size_t p
 FRIG_API frig_status frig_clouds_file_name(frig_ctx *ctx, const frig_photoset *set, size_t photo, char *buf,
                                            size_t size);
 
-/* Write WORKSPACE/clouds/NAME.ply for every photo with a cloud (each atomically) and remove the
- * .ply files there that belong to no cloud of this set (a photo that lost its cloud on a rerun
- * must not keep an old one). clouds must have one slot per photo of set. */
+/* Write WORKSPACE/clouds/NAME.ply for every photo with a cloud, and clouds/margin/NAME.ply for
+ * every cloud with a margin (each atomically), and remove the .ply files in both that belong to
+ * no cloud or margin of this set (a photo that lost its cloud on a rerun must not keep an old
+ * one). clouds must have one slot per photo of set. */
 FRIG_API frig_status frig_clouds_save(frig_ctx *ctx, const frig_clouds *clouds, const frig_photoset *set,
                                       const char *workspace);
 /* Read the clouds of set's photos from WORKSPACE/clouds/ (a photo without a file has no
- * cloud). A malformed file fails with a sentence naming it. */
+ * cloud) and their margins from clouds/margin/ (none without a file). A malformed file fails
+ * with a sentence naming it. */
 FRIG_API frig_status frig_clouds_load(frig_ctx *ctx, const frig_photoset *set, const char *workspace,
                                       frig_clouds **out);
 

@@ -199,7 +199,8 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_EXPRESSION_STEPS = 628,  /* each photo's expression steps per full shared round (default 3; 0 off) */
     FRIG_PARAM_SFS_EXPRESSION_PRIOR = 629,  /* refined expression weights held to the fit's (default 0.3) */
     FRIG_PARAM_SFS_EXPRESSION_SPARSE = 630, /* L1 on the refined expression weights (default 0.3) */
-    FRIG_PARAM_SFS_CLOUD_REGION = 631,      /* the clouds' pixels: 1 the narrow face (default), 0 the whole face region */
+    FRIG_PARAM_SFS_CLOUD_REGION = 631,      /* the clouds' pixels: 2 the narrow face, the rest of the face region in
+                                               the cloud's margin (default); 1 the narrow face only; 0 all in the cloud */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

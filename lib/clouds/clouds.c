@@ -1,5 +1,6 @@
 /* Per-photo point clouds (paper section 5.1's output, section 5.2's input): the frig_clouds
- * handle, the file name of each photo's cloud, and WORKSPACE/clouds/ on disk. */
+ * handle, the file name of each photo's cloud, and WORKSPACE/clouds/ (and clouds/margin/) on
+ * disk. */
 #include <dirent.h>
 #include <errno.h>
 #include <stdlib.h>
@@ -13,7 +14,7 @@
 #include "io/ply_reader.h"
 
 typedef struct cloud {
-    size_t count;
+    size_t count, margin; /* the arrays hold count points of the cloud, then margin of its margin */
     float *xyz, *normals, *confidence;
 } cloud;
 
@@ -82,9 +83,41 @@ static const cloud *slot(const frig_clouds *clouds, size_t photo) {
     return clouds && photo < clouds->photos && clouds->c[photo].count ? &clouds->c[photo] : NULL;
 }
 
+/* a resized to n floats (its values kept), or NULL with a untouched when out of memory. */
+static float *grow(float *a, size_t n) { return realloc(a, sizeof(float) * (n ? n : 1)); }
+
+frig_status frig_clouds_set_margin(frig_ctx *ctx, frig_clouds *clouds, size_t photo, size_t count, const float *xyz,
+                                   const float *normals, const float *confidence) {
+    if (!slot(clouds, photo))
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_clouds_set_margin: photo %zu has no cloud", photo);
+    if (count && (!xyz || !normals || !confidence))
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT,
+                        "frig_clouds_set_margin: points, normals and confidence are needed");
+    cloud *c = &clouds->c[photo];
+    size_t n = c->count + count;
+    float *a = grow(c->xyz, 3 * n);
+    if (a) c->xyz = a;
+    float *b = a ? grow(c->normals, 3 * n) : NULL;
+    if (b) c->normals = b;
+    float *f = b ? grow(c->confidence, n) : NULL;
+    if (f) c->confidence = f;
+    if (!f) return fr_nomem(ctx, "a cloud's margin");
+    if (count) {
+        memcpy(c->xyz + 3 * c->count, xyz, sizeof(float) * 3 * count);
+        memcpy(c->normals + 3 * c->count, normals, sizeof(float) * 3 * count);
+        memcpy(c->confidence + c->count, confidence, sizeof(float) * count);
+    }
+    c->margin = count;
+    return FRIG_OK;
+}
+
 size_t frig_clouds_count(const frig_clouds *clouds, size_t photo) {
     const cloud *c = slot(clouds, photo);
     return c ? c->count : 0;
+}
+size_t frig_clouds_margin_count(const frig_clouds *clouds, size_t photo) {
+    const cloud *c = slot(clouds, photo);
+    return c ? c->margin : 0;
 }
 const float *frig_clouds_xyz(const frig_clouds *clouds, size_t photo) {
     const cloud *c = slot(clouds, photo);
@@ -152,8 +185,10 @@ static int has_ply_suffix(const char *name) {
     return n > 4 && !strcmp(name + n - 4, ".ply") && name[0] != '.';
 }
 
-/* Remove DIR's .ply files that are not among the names of photos with a cloud. */
-static frig_status remove_stale(frig_ctx *ctx, const char *dir, char **names, const frig_clouds *clouds, size_t n) {
+/* Remove DIR's .ply files that are not among the names of photos with a cloud (with a margin
+ * when margins is set). */
+static frig_status remove_stale(frig_ctx *ctx, const char *dir, char **names, const frig_clouds *clouds, size_t n,
+                                int margins) {
     DIR *d = opendir(dir);
     if (!d) return fr_error(ctx, FRIG_ERR_IO, "%s: cannot list the folder (%s)", dir, strerror(errno));
     frig_status s = FRIG_OK;
@@ -161,7 +196,7 @@ static frig_status remove_stale(frig_ctx *ctx, const char *dir, char **names, co
     while (!s && (e = readdir(d)) != NULL) {
         if (!has_ply_suffix(e->d_name)) continue;
         size_t i = 0;
-        while (i < n && !(slot(clouds, i) && !strcmp(names[i], e->d_name))) i++;
+        while (i < n && !(slot(clouds, i) && (!margins || clouds->c[i].margin) && !strcmp(names[i], e->d_name))) i++;
         if (i < n) continue;
         char *path = fr_path_join(dir, e->d_name);
         if (!path) s = fr_nomem(ctx, "a file name");
@@ -182,17 +217,26 @@ frig_status frig_clouds_save(frig_ctx *ctx, const frig_clouds *clouds, const fri
         return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_clouds_save: %zu cloud slots for %zu photos",
                         clouds->photos, n);
     char *dir = fr_path_join(workspace, "clouds");
+    char *mdir = dir ? fr_path_join(dir, "margin") : NULL;
     char **names = file_names(set, n);
-    frig_status s = !dir || !names ? fr_nomem(ctx, "cloud file names") : fr_make_dirs(ctx, dir);
+    frig_status s = !dir || !mdir || !names ? fr_nomem(ctx, "cloud file names") : fr_make_dirs(ctx, mdir);
     for (size_t i = 0; i < n && !s; i++) {
         const cloud *c = slot(clouds, i);
         if (!c) continue;
         char *path = fr_path_join(dir, names[i]);
         s = path ? frig_save_ply(ctx, path, c->count, c->xyz, c->normals, c->confidence) : fr_nomem(ctx, "a path");
         free(path);
+        if (s || !c->margin) continue;
+        path = fr_path_join(mdir, names[i]);
+        s = path ? frig_save_ply(ctx, path, c->margin, c->xyz + 3 * c->count, c->normals + 3 * c->count,
+                                 c->confidence + c->count)
+                 : fr_nomem(ctx, "a path");
+        free(path);
     }
-    if (!s) s = remove_stale(ctx, dir, names, clouds, n);
+    if (!s) s = remove_stale(ctx, dir, names, clouds, n, 0);
+    if (!s) s = remove_stale(ctx, mdir, names, clouds, n, 1);
     free_names(names, n);
+    free(mdir);
     free(dir);
     return s;
 }
@@ -205,11 +249,27 @@ frig_status frig_clouds_load_ply(frig_ctx *ctx, frig_clouds *clouds, size_t phot
     if (s) return s;
     cloud_clear(&clouds->c[photo]);
     if (p.count) {
-        clouds->c[photo] = (cloud){p.count, p.xyz, p.normals, p.confidence};
+        clouds->c[photo] = (cloud){p.count, 0, p.xyz, p.normals, p.confidence};
     } else {
         fr_ply_cloud_free(&p);
     }
     return FRIG_OK;
+}
+
+/* The margin of photo's cloud from DIR/margin/NAME, when that file exists. */
+static frig_status load_margin(frig_ctx *ctx, frig_clouds *clouds, size_t photo, const char *dir, const char *name) {
+    char *mdir = fr_path_join(dir, "margin"), *path = mdir ? fr_path_join(mdir, name) : NULL;
+    frig_status s = path ? FRIG_OK : fr_nomem(ctx, "a path");
+    if (!s && access(path, F_OK) == 0) {
+        fr_ply_cloud p;
+        s = fr_ply_read(ctx, path, &p);
+        if (!s) {
+            s = frig_clouds_set_margin(ctx, clouds, photo, p.count, p.xyz, p.normals, p.confidence);
+            fr_ply_cloud_free(&p);
+        }
+    }
+    free(path), free(mdir);
+    return s;
 }
 
 frig_status frig_clouds_load(frig_ctx *ctx, const frig_photoset *set, const char *workspace, frig_clouds **out) {
@@ -231,6 +291,7 @@ frig_status frig_clouds_load(frig_ctx *ctx, const frig_photoset *set, const char
         }
         if (access(path, F_OK) == 0) s = frig_clouds_load_ply(ctx, c, i, path);
         free(path);
+        if (!s && slot(c, i)) s = load_margin(ctx, c, i, dir, names[i]);
     }
     free_names(names, n);
     free(dir);

@@ -186,9 +186,10 @@ static const param_row rows[] = {
      "shading energy per texel)"},
     {FRIG_PARAM_SFS_EXPRESSION_SPARSE, "sfs.expression_sparse", 0.3, 0, 1e6, 0,
      "weight of the L1 sparsity of the refined expression weights (against the mean robust shading energy per texel)"},
-    {FRIG_PARAM_SFS_CLOUD_REGION, "sfs.cloud_region", 1, 0, 1, 1,
+    {FRIG_PARAM_SFS_CLOUD_REGION, "sfs.cloud_region", 2, 0, 2, 1,
      "the pixels a cloud may keep: 1 the narrow face (no neck, ears or scalp: their points were 1.5-2.3 mm off, twice "
-     "the rest, and pulled every cloud's alignment), 0 the whole face region the skin model judges"},
+     "the rest, and pulled every cloud's alignment), 2 the same with the rest written as the cloud's margin "
+     "(clouds/margin/, read by retarget), 0 the whole face region the skin model judges"},
 
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,

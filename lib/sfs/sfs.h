@@ -27,7 +27,7 @@ typedef struct fr_sfs_settings {
     double min_luma;      /* sfs_failed when the face's median 8-bit luma is below this */
     double min_agreement; /* sfs_failed when the photo's albedo correlates less with the subject's */
     int min_points;       /* sfs_failed with fewer points kept */
-    int cloud_region;     /* 1: cloud points from the narrow face only (no neck, ears, scalp); 0: the face region */
+    int cloud_region;     /* 2: the cloud from the narrow face, the neck, ears and scalp its margin; 1: those dropped; 0: all in the cloud */
     int texture_size;     /* side of the UV albedo texture written out */
     int shape_size;       /* side of the UV grid of the shared shape */
     int pose;             /* 1: refine the pose against the recovered depth (ICP) */
@@ -108,9 +108,9 @@ typedef struct fr_sfs_view {
     float *z;            /* recovered depth (camera z, metres), 0 where none */
     float *normal;       /* recovered normals, camera frame (3 per pixel) */
     float *err;          /* SfS error per pixel (relative), -1 where none */
-    uint8_t *kept;       /* region selection (eq. 5.15) */
+    uint8_t *kept;       /* region selection (eq. 5.15): 1 the cloud's, 2 its margin's (fr_sfs_region_narrow) */
     float *confidence;
-    int face_pixels, data_pixels, kept_pixels;
+    int face_pixels, data_pixels, kept_pixels, margin_pixels;
     double sfs_error;    /* median relative shading error over the skin pixels */
     double agreement;    /* correlation of the photo's albedo with the subject's */
     double photo_weight; /* weight of the photo's observations in the shared albedo and shape (from agreement) */
@@ -134,8 +134,9 @@ frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view 
 /* ---- region selection (eq. 5.15; sfs_region.c) and the pose (sfs_pose.c) ---- */
 /* v->kept and v->confidence from v->err, v->z, v->z_ref (st->e_max, st->d_max_mm). */
 void fr_sfs_select_region(fr_sfs_view *v, const fr_sfs_settings *st);
-/* The kept pixels narrowed to the narrow face (sfs.cloud_region): no neck, ears or scalp. */
-void fr_sfs_region_narrow(fr_sfs_view *v);
+/* The kept pixels narrowed to the narrow face (sfs.cloud_region): the neck, ears and scalp
+ * become the margin (kept 2, not counted in kept_pixels), or are dropped when margin is 0. */
+void fr_sfs_region_narrow(fr_sfs_view *v, int margin);
 /* The pose (head -> camera) that best fits the rig at the view's weights to its kept points. */
 frig_status fr_sfs_refine_pose(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view *v, double R[9], double t[3]);
 

@@ -31,7 +31,8 @@ frig_status fr_sfs_write_overlay(frig_ctx *ctx, const fr_sfs_view *v, const fr_s
     int pw = v->w * zoom, ph = v->h * zoom, bar = 14 * (zoom > 2 ? 2 : 1);
     frig_image *img = fr_image_new(4 * pw, ph + bar, 3);
     if (!img) return fr_nomem(ctx, "an sfs overlay");
-    static const uint8_t red[3] = {230, 40, 40}, green[3] = {40, 220, 60}, white[3] = {255, 255, 255};
+    static const uint8_t red[3] = {230, 40, 40}, green[3] = {40, 220, 60}, white[3] = {255, 255, 255},
+                         yellow[3] = {230, 210, 40};
     for (int y = 0; y < v->h; y++)
         for (int x = 0; x < v->w; x++) {
             size_t i = (size_t)y * v->w + x;
@@ -46,7 +47,7 @@ frig_status fr_sfs_write_overlay(frig_ctx *ctx, const fr_sfs_view *v, const fr_s
             if (v->skin[i] && v->err[i] >= 0) jet(v->err[i] / (st->e_max > 0 ? st->e_max : 1), panel[2]);
             else memset(panel[2], 0, 3);
             memcpy(panel[3], v->rgb + 3 * i, 3);
-            if (v->kept[i]) blend(panel[3], green, 0.5);
+            if (v->kept[i]) blend(panel[3], v->kept[i] == 2 ? yellow : green, 0.5); /* the cloud, its margin */
             for (int q = 0; q < 4; q++)
                 for (int dy = 0; dy < zoom; dy++)
                     for (int dx = 0; dx < zoom; dx++)

@@ -4,9 +4,10 @@
  *     inc(x, y) = (E_sfs(x, y) < E_max) && (d(x, y) < d_max),
  * with E_sfs the relative RMS residual |I - a S(n)| / |a S(n)| over the colour channels and d
  * in millimetres. Skin pixels only, one pixel in from the region's edge (mixed pixels there).
- * fr_sfs_region_narrow then keeps the narrow face's only (sfs.cloud_region, after the pose is
- * refined on all of them): the neck, ears and scalp are read at grazing angles and under the chin's
- * shadow, where the points were twice as far off (docs/sfs.md).
+ * fr_sfs_region_narrow then keeps the narrow face's in the cloud (sfs.cloud_region, after the pose
+ * is refined on all of them): the neck, ears and scalp are read at grazing angles and under the
+ * chin's shadow, where the points were twice as far off (docs/sfs.md); they become the cloud's
+ * margin, which retarget reads for the shape they cover (sfs.cloud_region 2, docs/retarget.md).
  * The confidence falls linearly with both (and with the view's obliquity). */
 #include <math.h>
 #include <string.h>
@@ -15,7 +16,7 @@
 
 void fr_sfs_select_region(fr_sfs_view *v, const fr_sfs_settings *st) {
     int w = v->w, h = v->h;
-    v->kept_pixels = 0;
+    v->kept_pixels = v->margin_pixels = 0;
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
             size_t i = (size_t)y * w + x;
@@ -40,8 +41,16 @@ void fr_sfs_select_region(fr_sfs_view *v, const fr_sfs_settings *st) {
         }
 }
 
-void fr_sfs_region_narrow(fr_sfs_view *v) {
+void fr_sfs_region_narrow(fr_sfs_view *v, int margin) {
     size_t n = (size_t)v->w * v->h;
-    for (size_t i = 0; i < n; i++)
-        if (v->kept[i] && !v->core[i]) v->kept[i] = 0, v->confidence[i] = 0, v->kept_pixels--;
+    v->margin_pixels = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (!v->kept[i] || v->core[i]) continue;
+        v->kept_pixels--;
+        if (margin) {
+            v->kept[i] = 2, v->margin_pixels++;
+        } else {
+            v->kept[i] = 0, v->confidence[i] = 0;
+        }
+    }
 }

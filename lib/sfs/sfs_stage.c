@@ -22,9 +22,30 @@ typedef struct finish_job {
     fr_sfs_run *r;
     const frig_photoset *set;
     const char *overlay_dir;
-    float **xyz, **nrm, **conf; /* per view: the cloud */
-    int *count;
+    float **xyz, **nrm, **conf; /* per view: the cloud, then its margin */
+    int *count, *margin;
 } finish_job;
+
+/* The view's pixels kept as 'which' (1 the cloud, 2 its margin) as points in the head frame,
+ * R^T (X_c - t) and R^T n_c at the refined pose; returns how many. */
+static int cloud_points(const fr_sfs_view *v, int which, float *xyz, float *nrm, float *conf) {
+    const double *R = v->R_refined, *t = v->t_refined;
+    size_t n = (size_t)v->w * v->h;
+    int c = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (v->kept[i] != which) continue;
+        int x = (int)(i % v->w), y = (int)(i / v->w);
+        double X[3] = {v->z[i] * (x - v->cam.cx) / v->cam.f - t[0], v->z[i] * (y - v->cam.cy) / v->cam.f - t[1],
+                       v->z[i] - t[2]};
+        const float *nc = v->normal + 3 * i;
+        for (int q = 0; q < 3; q++) {
+            xyz[3 * c + q] = (float)(R[q] * X[0] + R[3 + q] * X[1] + R[6 + q] * X[2]);
+            nrm[3 * c + q] = (float)(R[q] * nc[0] + R[3 + q] * nc[1] + R[6 + q] * nc[2]);
+        }
+        conf[c++] = v->confidence[i];
+    }
+    return c;
+}
 
 static frig_status finish_one(frig_ctx *ctx, size_t k, void *user) {
     finish_job *j = user;
@@ -46,35 +67,23 @@ static frig_status finish_one(frig_ctx *ctx, size_t k, void *user) {
     if (r->ok[k] && st->pose && v->kept_pixels >= 50) s = fr_sfs_refine_pose(ctx, &r->mesh, v, v->R_refined, v->t_refined);
     if (s) return s;
     v->pose_change_deg = fr_rotation_angle_deg(v->R, v->R_refined);
-    if (!judged_before && st->cloud_region) fr_sfs_region_narrow(v);
+    if (!judged_before && st->cloud_region) fr_sfs_region_narrow(v, st->cloud_region == 2);
     if (r->ok[k] && v->kept_pixels < st->min_points) {
         snprintf(why, sizeof why, "only %d points kept (sfs.min_points %d)", v->kept_pixels, st->min_points);
         r->ok[k] = 0, r->reason[k] = strdup(why);
     }
     if (r->ok[k]) {
-        size_t n = (size_t)v->w * v->h;
-        float *xyz = malloc(sizeof(float) * 3 * (size_t)(v->kept_pixels + 1));
-        float *nrm = malloc(sizeof(float) * 3 * (size_t)(v->kept_pixels + 1));
-        float *conf = malloc(sizeof(float) * (size_t)(v->kept_pixels + 1));
+        size_t total = (size_t)v->kept_pixels + (size_t)(st->cloud_region ? v->margin_pixels : 0);
+        float *xyz = malloc(sizeof(float) * 3 * (total + 1));
+        float *nrm = malloc(sizeof(float) * 3 * (total + 1));
+        float *conf = malloc(sizeof(float) * (total + 1));
         if (!xyz || !nrm || !conf) {
             free(xyz), free(nrm), free(conf);
             return fr_nomem(ctx, "a point cloud");
         }
-        const double *R = v->R_refined, *t = v->t_refined;
-        int c = 0;
-        for (size_t i = 0; i < n; i++) {
-            if (!v->kept[i]) continue;
-            int x = (int)(i % v->w), y = (int)(i / v->w);
-            double X[3] = {v->z[i] * (x - v->cam.cx) / v->cam.f - t[0], v->z[i] * (y - v->cam.cy) / v->cam.f - t[1],
-                           v->z[i] - t[2]};
-            const float *nc = v->normal + 3 * i;
-            for (int q = 0; q < 3; q++) { /* head frame: R^T (X_c - t), R^T n_c */
-                xyz[3 * c + q] = (float)(R[q] * X[0] + R[3 + q] * X[1] + R[6 + q] * X[2]);
-                nrm[3 * c + q] = (float)(R[q] * nc[0] + R[3 + q] * nc[1] + R[6 + q] * nc[2]);
-            }
-            conf[c++] = v->confidence[i];
-        }
-        j->xyz[k] = xyz, j->nrm[k] = nrm, j->conf[k] = conf, j->count[k] = c;
+        int c = cloud_points(v, 1, xyz, nrm, conf); /* the cloud: every kept pixel without a region, else the face's */
+        int m = st->cloud_region ? cloud_points(v, 2, xyz + 3 * (size_t)c, nrm + 3 * (size_t)c, conf + c) : 0;
+        j->xyz[k] = xyz, j->nrm[k] = nrm, j->conf[k] = conf, j->count[k] = c, j->margin[k] = m;
     }
     if (j->overlay_dir) {
         char name[1024], label[256];
@@ -206,13 +215,14 @@ static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set,
     fr_blas_serial_end(blas);
     if (!s && run.n == 0)
         s = fr_error(ctx, FRIG_ERR_TOO_FEW, "no fitted photo with an ok status for shape from shading (run frig fit first)");
-    finish_job job = {&run, set, overlay_dir, NULL, NULL, NULL, NULL};
+    finish_job job = {&run, set, overlay_dir, NULL, NULL, NULL, NULL, NULL};
     if (!s) {
         job.xyz = calloc((size_t)run.n + 1, sizeof(float *));
         job.nrm = calloc((size_t)run.n + 1, sizeof(float *));
         job.conf = calloc((size_t)run.n + 1, sizeof(float *));
         job.count = calloc((size_t)run.n + 1, sizeof(int));
-        if (!job.xyz || !job.nrm || !job.conf || !job.count) s = fr_nomem(ctx, "the clouds");
+        job.margin = calloc((size_t)run.n + 1, sizeof(int));
+        if (!job.xyz || !job.nrm || !job.conf || !job.count || !job.margin) s = fr_nomem(ctx, "the clouds");
     }
     double cpu[3];
     cpu[0] = fr_cpu_seconds();
@@ -251,6 +261,10 @@ static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set,
         if (!s && run.ok[k]) {
             usable++;
             if (cl) s = frig_clouds_set(ctx, cl, run.photo[k], (size_t)job.count[k], job.xyz[k], job.nrm[k], job.conf[k]);
+            size_t c3 = 3 * (size_t)job.count[k];
+            if (!s && cl && job.margin[k])
+                s = frig_clouds_set_margin(ctx, cl, run.photo[k], (size_t)job.margin[k], job.xyz[k] + c3, job.nrm[k] + c3,
+                                           job.conf[k] + job.count[k]);
         }
     }
     (void)usable;
@@ -259,7 +273,7 @@ static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set,
     fr_log(ctx, FRIG_LOG_DEBUG, "sfs (CPU s): regions, poses, clouds%s %.2f, albedo texture %.2f",
            overlay_dir ? " and pictures" : "", cpu[1] - cpu[0], cpu[2] - cpu[1]);
     for (int k = 0; job.xyz && k < run.n; k++) free(job.xyz[k]), free(job.nrm[k]), free(job.conf[k]);
-    free(job.xyz), free(job.nrm), free(job.conf), free(job.count);
+    free(job.xyz), free(job.nrm), free(job.conf), free(job.count), free(job.margin);
     if (!s && keep && !(*keep = malloc(sizeof run))) s = fr_nomem(ctx, "the sfs computation");
     if (!s && keep) **keep = run; /* handed over whole */
     else fr_sfs_run_free(&run);
