@@ -138,7 +138,8 @@ static void correspondence_report(frig_ctx *ctx, const frig_model *model, const 
         frig_rig_eval(ctx, rig, w, rest);
         frig_rig_eval(ctx, truth, wt, tru);
         p.xyz = frig_clouds_xyz(clouds, i), p.nrm = frig_clouds_normals(clouds, i);
-        p.conf = frig_clouds_confidence(clouds, i), p.n_points = frig_clouds_count(clouds, i);
+        p.conf = frig_clouds_confidence(clouds, i), p.n_core = frig_clouds_count(clouds, i);
+        p.n_points = p.n_core + frig_clouds_margin_count(clouds, i);
         fr_rt_thin_cloud(ctx, &s, &p);
         for (int k = 0; k < 9; k++) p.R[k] = k % 4 == 0;
         p.t[0] = p.t[1] = p.t[2] = 0;
@@ -200,7 +201,8 @@ static void cloud_error_report(frig_ctx *ctx, const frig_photoset *set, const fr
         }
         frig_rig_eval(ctx, truth, wt, tru);
         p.xyz = frig_clouds_xyz(clouds, i), p.nrm = frig_clouds_normals(clouds, i);
-        p.conf = frig_clouds_confidence(clouds, i), p.n_points = frig_clouds_count(clouds, i);
+        p.conf = frig_clouds_confidence(clouds, i), p.n_core = frig_clouds_count(clouds, i);
+        p.n_points = p.n_core; /* the cloud alone: its own error */
         fr_rt_thin_cloud(ctx, &s, &p);
         for (int k = 0; k < 9; k++) p.R[k] = k % 4 == 0;
         p.t[0] = p.t[1] = p.t[2] = 0;
@@ -315,7 +317,8 @@ static void identity_report(frig_ctx *ctx, const frig_model *model, frig_photose
         fr_rt_photo *p = &ph[n++];
         p->index = i;
         p->xyz = frig_clouds_xyz(clouds, i), p->nrm = frig_clouds_normals(clouds, i);
-        p->conf = frig_clouds_confidence(clouds, i), p->n_points = frig_clouds_count(clouds, i);
+        p->conf = frig_clouds_confidence(clouds, i), p->n_core = frig_clouds_count(clouds, i);
+        p->n_points = p->n_core + frig_clouds_margin_count(clouds, i);
         for (int k = 0; k < 9; k++) p->R[k] = k % 4 == 0;
         p->scale = 1;
         p->w = calloc(K + 1, sizeof(double));
@@ -409,7 +412,7 @@ static void oracle_report(frig_ctx *ctx, const frig_model *model, const frig_pho
     for (int v = 0; v < nv; v++) conf[v] = 1;
     fr_rt_photo p;
     memset(&p, 0, sizeof p);
-    p.xyz = frig_rig_neutral(truth), p.nrm = nrm, p.conf = conf, p.n_points = nf;
+    p.xyz = frig_rig_neutral(truth), p.nrm = nrm, p.conf = conf, p.n_points = p.n_core = nf;
     for (int k = 0; k < 9; k++) p.R[k] = k % 4 == 0;
     p.scale = 1;
     p.pick = malloc(sizeof(int) * nf);

@@ -192,6 +192,43 @@ static void check_spread(frig_ctx *ctx, const frig_model *model, const frig_synt
     CHECK(err[1] < err[0] - 0.02);
 }
 
+/* A cloud's margin (sfs.cloud_region 2) is read with the cloud: weighed 0 it changes nothing, byte
+ * for byte (against 'plain', the pass on the same clouds without margins); weighed 1, a margin on
+ * a wrong surface (each cloud again, 5 mm out along its normals) moves the neutral. */
+static void check_margin(frig_ctx *ctx, const frig_model *model, const frig_synth_subject *subj,
+                         const frig_rig *start, const frig_rig *plain) {
+    double moved[2] = {0, 0};
+    int nv = frig_rig_vertex_count(plain), S = frig_rig_shape_count(plain);
+    for (int k = 0; k < 2; k++) {
+        frig_photoset *set = NULL;
+        frig_clouds *clouds = NULL;
+        frig_rig *rig = NULL;
+        truth tw;
+        if (!make_set(ctx, model, subj, &set, &clouds, &tw, 0)) return;
+        for (size_t i = 0; i < PHOTOS; i++) {
+            size_t n = frig_clouds_count(clouds, i);
+            if (!n) continue;
+            const float *x = frig_clouds_xyz(clouds, i), *nm = frig_clouds_normals(clouds, i);
+            float *out = malloc(sizeof(float) * 3 * n);
+            for (size_t q = 0; q < 3 * n; q++) out[q] = x[q] + 0.005f * nm[q];
+            CHECK(frig_clouds_set_margin(ctx, clouds, i, n, out, nm, frig_clouds_confidence(clouds, i)) == FRIG_OK);
+            free(out);
+        }
+        CHECK(frig_rig_clone(ctx, start, &rig) == FRIG_OK);
+        CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_MARGIN_WEIGHT, k) == FRIG_OK);
+        CHECK(frig_retarget(ctx, model, set, clouds, rig) == FRIG_OK);
+        moved[k] = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(plain), frig_rig_neutral(rig), FACE);
+        if (k == 0) {
+            CHECK(memcmp(frig_rig_neutral(rig), frig_rig_neutral(plain), sizeof(float) * 3 * nv) == 0);
+            CHECK(memcmp(frig_rig_shape_deltas(rig, 0), frig_rig_shape_deltas(plain, 0), sizeof(float) * 3 * nv * S) == 0);
+        }
+        frig_rig_free(rig), frig_clouds_free(clouds), frig_photoset_free(set);
+    }
+    CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_MARGIN_WEIGHT, 1) == FRIG_OK);
+    printf("a margin 5 mm off: the neutral moved %.3f mm weighed 0, %.3f mm weighed 1\n", moved[0], moved[1]);
+    CHECK(moved[1] > 0.1);
+}
+
 int main(void) {
     frig_ctx *ctx = frig_ctx_create();
     frig_model *model = fixture_model(ctx);
@@ -244,6 +281,7 @@ int main(void) {
 
     check_exported_collisions(ctx, model, start, rig);
     check_spread(ctx, model, subj, start);
+    check_margin(ctx, model, subj, start, rig2);
 
     /* The outer loop: two rounds (refit on the rig, retarget), recorded in the report; lighter
      * settings (this checks the loop, not the accuracy). */

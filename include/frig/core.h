@@ -249,7 +249,8 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS = 729, /* the shared shape's iterations per round in the loop's recovery (0: sfs's) */
     FRIG_PARAM_RETARGET_LOOP_IDENTITY_ITERATIONS = 730, /* retarget.identity_iterations in the outer rounds after the first */
     FRIG_PARAM_RETARGET_LOOP_DEFORM_ITERATIONS = 731,   /* retarget.deform_iterations in the outer rounds after the first */
-    FRIG_PARAM_RETARGET_IDENTITY_SPREAD = 732 /* variance of each cloud's own identity about the shared one (default 0.03) */
+    FRIG_PARAM_RETARGET_IDENTITY_SPREAD = 732, /* variance of each cloud's own identity about the shared one (default 0.03) */
+    FRIG_PARAM_RETARGET_MARGIN_WEIGHT = 733 /* weight of a cloud's margin points against its own (default 1) */
 } frig_param;
 
 FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);

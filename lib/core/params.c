@@ -281,6 +281,9 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_IDENTITY_PRIOR, "retarget.identity_prior", 30, 0.01, 1e6, 0,
      "weight of the model's prior N(0, I) on the identity fitted to the clouds, against matches weighed at 1 mm "
      "each (s^2 weighs them at s mm)"},
+    {FRIG_PARAM_RETARGET_MARGIN_WEIGHT, "retarget.margin_weight", 1, 0, 1, 0,
+     "weight of each cloud's margin points (neck, ears, scalp: sfs.cloud_region 2) in the matches, against the "
+     "cloud's own points (0: the margin unused)"},
     {FRIG_PARAM_RETARGET_IDENTITY_SPREAD, "retarget.identity_spread", 0.03, 0, 100, 0,
      "variance (in the model's identity units) of the identity each cloud shows about the shared one: a cloud's "
      "errors are smooth and shared by its points, so each photo's say on the shared identity is capped (0: "

@@ -48,6 +48,7 @@ frig_status fr_rt_thin_cloud(frig_ctx *ctx, const fr_rt_settings *s, fr_rt_photo
     for (size_t i = 0; i < p->n_points; i++) {
         const float *x = p->xyz + 3 * i, *nm = p->nrm + 3 * i;
         if (!isfinite(x[0]) || !isfinite(x[1]) || !isfinite(x[2]) || !(p->conf[i] >= s->min_confidence)) continue;
+        if (i >= p->n_core && !(s->margin_weight > 0)) continue; /* the margin unused */
         if (!(nm[0] * nm[0] + nm[1] * nm[1] + nm[2] * nm[2] > 0.25)) continue; /* no normal */
         uint64_t key = 0;
         for (int c = 0; c < 3; c++) {
@@ -117,7 +118,9 @@ int fr_rt_match_cloud(const fr_rt_settings *s, const fr_rt_mesh *m, const fr_tri
         if (!((nc[0] * mt->n[0] + nc[1] * mt->n[1] + nc[2] * mt->n[2]) >= s->cos_max_angle * len)) continue;
         mt->tri = hit.tri;
         for (int k = 0; k < 3; k++) mt->bary[k] = hit.bary[k], mt->q[k] = hit.point[k], mt->p[k] = x[k];
-        mt->w = p->conf[i];
+        int margin = (size_t)i >= p->n_core;
+        mt->w = p->conf[i] * (margin ? s->margin_weight : 1.0);
+        mt->row = margin ? sqrt(s->margin_weight) : 1.0;
         n++;
     }
     return n;

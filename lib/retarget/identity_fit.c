@@ -102,12 +102,12 @@ static int photo_rows(const fr_rt_settings *s, const frig_model *model, const fl
         const int32_t *v = m->tris + 3 * (size_t)q->tri;
         double res = 0;
         for (int d = 0; d < 3; d++) res += q->n[d] * (q->p[d] - q->q[d]);
-        r[rows] = res / SIGMA;
+        r[rows] = q->row * res / SIGMA;
         double coef[9];
         const float *b[9];
         for (int j = 0; j < 3; j++)
             for (int d = 0; d < 3; d++) {
-                coef[3 * j + d] = q->bary[j] * q->n[d] / SIGMA;
+                coef[3 * j + d] = q->row * q->bary[j] * q->n[d] / SIGMA;
                 b[3 * j + d] = B + (3 * (size_t)v[j] + d) * cols;
             }
         for (int k = 0; k < cols; k++) {

@@ -34,6 +34,7 @@ typedef struct fr_rt_settings {
     int anchor_frame;        /* 1: the rig is moved back rigidly to its frame after the pass */
     double identity_prior;   /* weight of the identity's prior N(0, I) against the clouds (1: matches at 1 mm) */
     double identity_spread;  /* variance of a cloud's own identity about the shared one (0: none) */
+    double margin_weight;    /* weight of the margin's points (those from n_core on) */
     int mean_size;           /* 1: the identity step keeps the mean face's size (fit.mean_size) */
     int threads;
 } fr_rt_settings;
@@ -53,6 +54,7 @@ typedef struct fr_rt_photo {
     size_t index;                 /* in the photo set */
     const float *xyz, *nrm, *conf; /* the cloud (borrowed), head frame */
     size_t n_points;
+    size_t n_core;                /* the points before this are the cloud's, the rest its margin's */
     int *pick;                    /* the thinned cloud: indices into it */
     int n_pick;
     int *hint;                    /* per picked point: the triangle it matched last (-1: none) */
@@ -95,7 +97,8 @@ typedef struct fr_rt_match {
     double q[3];    /* the matched mesh point */
     double n[3];    /* the triangle's unit normal */
     double p[3];    /* the cloud point, rigidly corrected */
-    double w;       /* its confidence */
+    double w;       /* its confidence (times retarget.margin_weight for a margin point) */
+    double row;     /* its rows' scale in the identity fit: 1, or sqrt(retarget.margin_weight) */
 } fr_rt_match;
 
 /* Match the photo's thinned cloud (after its rigid correction) to the mesh cur (3 nf floats,

@@ -63,7 +63,8 @@ frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset 
         q->xyz = frig_clouds_xyz(clouds, i);
         q->nrm = frig_clouds_normals(clouds, i);
         q->conf = frig_clouds_confidence(clouds, i);
-        q->n_points = frig_clouds_count(clouds, i) + frig_clouds_margin_count(clouds, i); /* the margin too */
+        q->n_core = frig_clouds_count(clouds, i);
+        q->n_points = q->n_core + frig_clouds_margin_count(clouds, i); /* the margin too */
         for (int k = 0; k < 9; k++) q->R[k] = k % 4 == 0;
         q->scale = 1;
         const fr_face *face = fr_photo_subject(p);
