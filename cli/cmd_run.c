@@ -360,8 +360,8 @@ static int layout(run_ctx *r, const char *given) {
 
 static void clean_temps(run_ctx *r) {
     static const char *const dirs[] = {"", "rig", "overlays/detect", "overlays/fit", "overlays/sfs", "overlays/retarget",
-                                       "report", "report/thumbs", "textures", "clouds", "stages/sfs/clouds",
-                                       "stages/detect/partial"};
+                                       "report", "report/thumbs", "textures", "clouds", "clouds/margin", "stages/sfs/clouds",
+                                       "stages/sfs/clouds/margin", "stages/detect/partial"};
     char path[4200];
     for (size_t i = 0; i < sizeof dirs / sizeof dirs[0]; i++) run_remove_temps(run_path(r, dirs[i], path, sizeof path));
     for (int i = 0; i < run_stage_count; i++) {
