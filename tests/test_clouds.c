@@ -131,6 +131,11 @@ int main(void) {
     snprintf(path, sizeof path, "%s/clouds/margin/photo_001.ply", ws);
     CHECK(access(path, F_OK) != 0); /* a margin lost on a rerun leaves no old file */
     CHECK(frig_clouds_set_margin(ctx, c, 2, 2, xyz, nrm, conf) == FRIG_OK && frig_clouds_margin_count(c, 2) == 2);
+    /* the margin copied from the cloud's own (borrowed) arrays: read before they are replaced */
+    CHECK(frig_clouds_set_margin(ctx, c, 2, 3, frig_clouds_xyz(c, 2), frig_clouds_normals(c, 2),
+                                 frig_clouds_confidence(c, 2)) == FRIG_OK);
+    CHECK(frig_clouds_margin_count(c, 2) == 3 && memcmp(frig_clouds_xyz(c, 2) + 9, xyz + 30, sizeof(float) * 9) == 0);
+    CHECK(memcmp(frig_clouds_xyz(c, 2), xyz + 30, sizeof(float) * 9) == 0);
     CHECK(frig_clouds_set(ctx, c, 2, 3, xyz + 30, nrm, conf) == FRIG_OK && frig_clouds_margin_count(c, 2) == 0);
     CHECK(frig_clouds_set(ctx, c, 0, 0, NULL, NULL, NULL) == FRIG_OK && frig_clouds_count(c, 0) == 0);
 

@@ -34,7 +34,8 @@ FRIG_API size_t frig_clouds_photo_count(const frig_clouds *clouds);
 FRIG_API frig_status frig_clouds_set(frig_ctx *ctx, frig_clouds *clouds, size_t photo, size_t count,
                                      const float *xyz, const float *normals, const float *confidence);
 /* Replace the margin of photo's cloud (which must have points) with a copy of count points,
- * laid out as for frig_clouds_set; count 0 removes it. frig_clouds_set removes the margin. */
+ * laid out as for frig_clouds_set (they may be read from this cloud's own arrays); count 0
+ * removes it. frig_clouds_set removes the margin. */
 FRIG_API frig_status frig_clouds_set_margin(frig_ctx *ctx, frig_clouds *clouds, size_t photo, size_t count,
                                             const float *xyz, const float *normals, const float *confidence);
 /* Points of photo's cloud (0 when it has none or photo is out of range), and of its margin. */

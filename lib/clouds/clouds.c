@@ -83,8 +83,15 @@ static const cloud *slot(const frig_clouds *clouds, size_t photo) {
     return clouds && photo < clouds->photos && clouds->c[photo].count ? &clouds->c[photo] : NULL;
 }
 
-/* a resized to n floats (its values kept), or NULL with a untouched when out of memory. */
-static float *grow(float *a, size_t n) { return realloc(a, sizeof(float) * (n ? n : 1)); }
+/* n floats: the first keep of a, then add (may point into a: the caller's borrowed arrays). */
+static float *joined(const float *a, size_t keep, const float *add, size_t n) {
+    float *d = malloc(sizeof(float) * (n ? n : 1));
+    if (d) {
+        memcpy(d, a, sizeof(float) * keep);
+        if (n > keep) memcpy(d + keep, add, sizeof(float) * (n - keep));
+    }
+    return d;
+}
 
 frig_status frig_clouds_set_margin(frig_ctx *ctx, frig_clouds *clouds, size_t photo, size_t count, const float *xyz,
                                    const float *normals, const float *confidence) {
@@ -95,19 +102,14 @@ frig_status frig_clouds_set_margin(frig_ctx *ctx, frig_clouds *clouds, size_t ph
                         "frig_clouds_set_margin: points, normals and confidence are needed");
     cloud *c = &clouds->c[photo];
     size_t n = c->count + count;
-    float *a = grow(c->xyz, 3 * n);
-    if (a) c->xyz = a;
-    float *b = a ? grow(c->normals, 3 * n) : NULL;
-    if (b) c->normals = b;
-    float *f = b ? grow(c->confidence, n) : NULL;
-    if (f) c->confidence = f;
-    if (!f) return fr_nomem(ctx, "a cloud's margin");
-    if (count) {
-        memcpy(c->xyz + 3 * c->count, xyz, sizeof(float) * 3 * count);
-        memcpy(c->normals + 3 * c->count, normals, sizeof(float) * 3 * count);
-        memcpy(c->confidence + c->count, confidence, sizeof(float) * count);
+    cloud fresh = {c->count, count, joined(c->xyz, 3 * c->count, xyz, 3 * n),
+                   joined(c->normals, 3 * c->count, normals, 3 * n), joined(c->confidence, c->count, confidence, n)};
+    if (!fresh.xyz || !fresh.normals || !fresh.confidence) {
+        cloud_clear(&fresh);
+        return fr_nomem(ctx, "a cloud's margin");
     }
-    c->margin = count;
+    cloud_clear(c); /* only now: the new points may have been read from these arrays */
+    *c = fresh;
     return FRIG_OK;
 }
 
