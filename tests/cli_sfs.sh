@@ -34,6 +34,7 @@ r = json.load(open(os.path.join(ws, "report.json")))
 judged = [p for p in r["photos"] if "sfs" in p]
 clouds = 0
 bad = 0
+margins = 0
 for p in judged:
     stem = os.path.splitext(os.path.basename(p["file"]))[0]
     ply = os.path.join(ws, "clouds", stem + ".ply")
@@ -47,18 +48,27 @@ for p in judged:
         n = int([l for l in head.splitlines() if l.startswith("element vertex")][0].split()[2])
         if n != p["sfs"]["kept"] or "property float confidence" not in head:
             print("bad ply", stem); sys.exit(1)
+        mply = os.path.join(ws, "clouds", "margin", stem + ".ply")  # the margin: neck, ears, scalp
+        m = 0
+        if os.path.exists(mply):
+            mhead = open(mply, "rb").read(400).split(b"end_header\n")[0].decode()
+            m = int([l for l in mhead.splitlines() if l.startswith("element vertex")][0].split()[2])
+        if m != p["sfs"].get("margin", 0):
+            print("bad margin", stem); sys.exit(1)
+        margins += m > 0
         if t["failure"] in ("no_face", "underexposed", "overexposed"): bad += 1
     if len(p["sfs"]["lighting"]) != 3 or len(p["sfs"]["rotation"]) != 9:
         print("bad sfs block", stem); sys.exit(1)
 png = open(os.path.join(ws, "textures", "albedo.png"), "rb").read(32)
 w, h = struct.unpack(">II", png[16:24])
 pics = len([f for f in os.listdir(os.path.join(ws, "overlays", "sfs")) if f.endswith(".jpg")])
-print(len(judged), clouds, bad, w, h, pics)
+print(len(judged), clouds, bad, w, h, pics, margins)
 PY
 )
-echo "judged, clouds, clouds from failures, albedo size, pictures: $summary"
-read njudged nclouds nbad tw th npics <<< "$summary"
+echo "judged, clouds, clouds from failures, albedo size, pictures, clouds with a margin: $summary"
+read njudged nclouds nbad tw th npics nmargins <<< "$summary"
 check '[ "$nclouds" -ge 4 ] && [ "$nbad" = 0 ] && [ "$tw" = 512 ] && [ "$th" = 512 ] && [ "$npics" = "$njudged" ]'
+check '[ "$nmargins" -ge 1 ]'   # sfs.cloud_region 2: the neck, ears and scalp apart
 # A rerun judges the same photos again and writes the same clouds.
 mkdir -p "$tmp/first" && cp "$tmp/ws/clouds/"*.ply "$tmp/first/"
 "$F" --quiet --threads 1 sfs -w "$tmp/ws" --no-overlays

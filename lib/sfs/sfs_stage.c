@@ -254,6 +254,7 @@ static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set,
         }
         fr_photoset_set_sfs(p, v->face_pixels, run.ok[k] ? v->kept_pixels : 0, v->sfs_error, sh, v->R_refined,
                             v->t_refined);
+        p->sfs_margin = run.ok[k] && cl ? job.margin[k] : 0; /* the points written as its cloud's margin */
         s = sfs_expression_to_report(ctx, rig, set, run.photo[k], run.st.expression_steps > 0 ? v->weights : NULL);
         if (!s)
             s = frig_photoset_set_status(ctx, set, run.photo[k], run.ok[k] ? FRIG_PHOTO_OK : FRIG_PHOTO_SFS_FAILED,

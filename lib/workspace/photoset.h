@@ -50,7 +50,7 @@ typedef struct fr_photo {
     double rt_rms_mm, rt_rigid_deg, rt_rigid_mm;
     /* sfs (section 5.1): what the cloud was made of, the lighting, the refined pose */
     int sfs_done;
-    int sfs_pixels, sfs_kept;
+    int sfs_pixels, sfs_kept, sfs_margin; /* face pixels, the cloud's points, its margin's */
     double sfs_error;
     double sfs_lighting[27]; /* 9 per channel */
     double sfs_rotation[9], sfs_translation[3];

@@ -1,5 +1,6 @@
 /* A photo's shape-from-shading results (paper section 5.1) in report.json:
- *   "sfs": {"pixels": 9800, "kept": 7400, "error": 0.031,
+ *   "sfs": {"pixels": 9800, "kept": 7400, "margin": 600 (the cloud's margin's points, when it has one),
+ *           "error": 0.031,
  *           "lighting": [[9 R], [9 G], [9 B]], "rotation": [9], "translation": [3],
  *           "expression": {"jawOpen": 0.31, ...}: the weights the cloud was drawn at, by the fit's names, the
  *           non-zero ones; only when sfs refined them}
@@ -14,7 +15,7 @@
 void fr_photoset_set_sfs(fr_photo *p, int pixels, int kept, double error, const double lighting[27], const double R[9],
                          const double t[3]) {
     p->sfs_done = 1;
-    p->sfs_pixels = pixels, p->sfs_kept = kept, p->sfs_error = error;
+    p->sfs_pixels = pixels, p->sfs_kept = kept, p->sfs_margin = 0, p->sfs_error = error;
     memcpy(p->sfs_lighting, lighting, sizeof p->sfs_lighting);
     memcpy(p->sfs_rotation, R, sizeof p->sfs_rotation);
     memcpy(p->sfs_translation, t, sizeof p->sfs_translation);
@@ -43,6 +44,7 @@ void fr_report_write_sfs(fr_json *j, const frig_photoset *set, const fr_photo *p
     fr_json_object(j, "sfs");
     fr_json_int(j, "pixels", p->sfs_pixels);
     fr_json_int(j, "kept", p->sfs_kept);
+    if (p->sfs_margin > 0) fr_json_int(j, "margin", p->sfs_margin);
     fr_json_number(j, "error", p->sfs_error);
     fr_json_array(j, "lighting", 0);
     for (int c = 0; c < 3; c++) numbers(j, NULL, p->sfs_lighting + 9 * c, 9);
@@ -78,6 +80,9 @@ int fr_report_read_sfs(frig_ctx *ctx, const cJSON *sfs, frig_photoset *set, size
         return 0;
     /* a missing error (null: no skin pixel was left) reads back as NaN */
     fr_photoset_set_sfs(p, px->valueint, kept->valueint, cJSON_IsNumber(err) ? err->valuedouble : NAN, sh, R, t);
+    const cJSON *margin = cJSON_GetObjectItemCaseSensitive(sfs, "margin"); /* absent: none (older reports too) */
+    if (margin && (!cJSON_IsNumber(margin) || margin->valuedouble < 0 || margin->valuedouble > px->valuedouble)) return 0;
+    if (margin) p->sfs_margin = margin->valueint;
     /* the refined expression (absent: the fit's; older reports have none) */
     const cJSON *ex = cJSON_GetObjectItemCaseSensitive(sfs, "expression");
     double *w = ex && set->n_expressions > 0 ? calloc((size_t)set->n_expressions, sizeof(double)) : NULL;
