@@ -137,9 +137,7 @@ static void correspondence_report(frig_ctx *ctx, const frig_model *model, const 
         }
         frig_rig_eval(ctx, rig, w, rest);
         frig_rig_eval(ctx, truth, wt, tru);
-        p.xyz = frig_clouds_xyz(clouds, i), p.nrm = frig_clouds_normals(clouds, i);
-        p.conf = frig_clouds_confidence(clouds, i), p.n_core = frig_clouds_count(clouds, i);
-        p.n_points = p.n_core + frig_clouds_margin_count(clouds, i);
+        fr_rt_photo_borrow_cloud(&p, clouds, i);
         fr_rt_thin_cloud(ctx, &s, &p);
         for (int k = 0; k < 9; k++) p.R[k] = k % 4 == 0;
         p.t[0] = p.t[1] = p.t[2] = 0;
@@ -200,8 +198,7 @@ static void cloud_error_report(frig_ctx *ctx, const frig_photoset *set, const fr
             if (j >= 0) wt[j] = tr.weights[q];
         }
         frig_rig_eval(ctx, truth, wt, tru);
-        p.xyz = frig_clouds_xyz(clouds, i), p.nrm = frig_clouds_normals(clouds, i);
-        p.conf = frig_clouds_confidence(clouds, i), p.n_core = frig_clouds_count(clouds, i);
+        fr_rt_photo_borrow_cloud(&p, clouds, i);
         p.n_points = p.n_core; /* the cloud alone: its own error */
         fr_rt_thin_cloud(ctx, &s, &p);
         for (int k = 0; k < 9; k++) p.R[k] = k % 4 == 0;
@@ -316,9 +313,7 @@ static void identity_report(frig_ctx *ctx, const frig_model *model, frig_photose
             continue;
         fr_rt_photo *p = &ph[n++];
         p->index = i;
-        p->xyz = frig_clouds_xyz(clouds, i), p->nrm = frig_clouds_normals(clouds, i);
-        p->conf = frig_clouds_confidence(clouds, i), p->n_core = frig_clouds_count(clouds, i);
-        p->n_points = p->n_core + frig_clouds_margin_count(clouds, i);
+        fr_rt_photo_borrow_cloud(p, clouds, i);
         for (int k = 0; k < 9; k++) p->R[k] = k % 4 == 0;
         p->scale = 1;
         p->w = calloc(K + 1, sizeof(double));

@@ -76,6 +76,9 @@ typedef struct fr_rt_photo {
     double rigid_deg, rigid_mm;   /* size of the rigid correction (and its scale, above) */
 } fr_rt_photo;
 
+/* Borrow photo's cloud and its margin from clouds into p (xyz, nrm, conf, n_core, n_points). */
+void fr_rt_photo_borrow_cloud(fr_rt_photo *p, const frig_clouds *clouds, size_t photo);
+
 /* xyz: positions (3 per vertex, at least nv vertices) the spatial index is shaped on. */
 frig_status fr_rt_mesh_make(frig_ctx *ctx, int nv, const int32_t *tris, int nt, const float *xyz, fr_rt_mesh *m);
 void fr_rt_mesh_free(fr_rt_mesh *m);

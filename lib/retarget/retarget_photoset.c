@@ -29,6 +29,14 @@ static void free_photos(fr_rt_photo *p, int n) {
     free(p);
 }
 
+void fr_rt_photo_borrow_cloud(fr_rt_photo *p, const frig_clouds *clouds, size_t photo) {
+    p->xyz = frig_clouds_xyz(clouds, photo);
+    p->nrm = frig_clouds_normals(clouds, photo);
+    p->conf = frig_clouds_confidence(clouds, photo);
+    p->n_core = frig_clouds_count(clouds, photo);
+    p->n_points = p->n_core + frig_clouds_margin_count(clouds, photo); /* the margin too */
+}
+
 frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset *set, const frig_clouds *clouds,
                           frig_rig *rig) {
     if (!model || !set || !clouds || !rig) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget: NULL argument");
@@ -60,11 +68,7 @@ frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset 
         if (p->status != FRIG_PHOTO_OK || !p->fitted || frig_clouds_count(clouds, i) == 0) continue;
         fr_rt_photo *q = &ph[n++];
         q->index = i;
-        q->xyz = frig_clouds_xyz(clouds, i);
-        q->nrm = frig_clouds_normals(clouds, i);
-        q->conf = frig_clouds_confidence(clouds, i);
-        q->n_core = frig_clouds_count(clouds, i);
-        q->n_points = q->n_core + frig_clouds_margin_count(clouds, i); /* the margin too */
+        fr_rt_photo_borrow_cloud(q, clouds, i);
         for (int k = 0; k < 9; k++) q->R[k] = k % 4 == 0;
         q->scale = 1;
         const fr_face *face = fr_photo_subject(p);

@@ -73,7 +73,7 @@ static frig_status finish_one(frig_ctx *ctx, size_t k, void *user) {
         r->ok[k] = 0, r->reason[k] = strdup(why);
     }
     if (r->ok[k]) {
-        size_t total = (size_t)v->kept_pixels + (size_t)(st->cloud_region ? v->margin_pixels : 0);
+        size_t total = (size_t)v->kept_pixels + (size_t)v->margin_pixels; /* 0 margin pixels unless sfs.cloud_region 2 */
         float *xyz = malloc(sizeof(float) * 3 * (total + 1));
         float *nrm = malloc(sizeof(float) * 3 * (total + 1));
         float *conf = malloc(sizeof(float) * (total + 1));
@@ -82,7 +82,7 @@ static frig_status finish_one(frig_ctx *ctx, size_t k, void *user) {
             return fr_nomem(ctx, "a point cloud");
         }
         int c = cloud_points(v, 1, xyz, nrm, conf); /* the cloud: every kept pixel without a region, else the face's */
-        int m = st->cloud_region ? cloud_points(v, 2, xyz + 3 * (size_t)c, nrm + 3 * (size_t)c, conf + c) : 0;
+        int m = cloud_points(v, 2, xyz + 3 * (size_t)c, nrm + 3 * (size_t)c, conf + c);
         j->xyz[k] = xyz, j->nrm[k] = nrm, j->conf[k] = conf, j->count[k] = c, j->margin[k] = m;
     }
     if (j->overlay_dir) {
