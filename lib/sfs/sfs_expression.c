@@ -10,7 +10,8 @@
  * N_k from the texel grid's central secants of P_k (as the shared solve's normals:
  * sfs_texel_normal.h, its constant K held), the
  * photo sampled at the moved point (its gradients: the multi-view term), rho Tukey's, W the
- * seen texels' weight: Gauss-Newton with Levenberg-Marquardt damping, each step a bounded
+ * seen texels' weight (the sums run over every third texel: TEXEL_STRIDE below): Gauss-Newton
+ * with Levenberg-Marquardt damping, each step a bounded
  * quadratic program (linalg/box_qp.c) over the shapes that move the face. The normal n_k of
  * the displacement is held at its start (second order). */
 #include <math.h>
@@ -27,6 +28,11 @@
 
 #define INTENSITY_FLOOR 0.03
 #define MM 1e-3
+/* The step reads every third texel in the grid's order (a diagonal lattice over the face): some
+ * 2,700 texels of three channels for about 55 weights. Measured on seventeen frig synth subjects
+ * against every texel (docs/sfs.md, "Speed", fourth pass): the same held-out error and neutral
+ * within noise, the step 2.4 times faster. */
+#define TEXEL_STRIDE 3
 
 #define cross fr_sfs_cross
 
@@ -111,7 +117,7 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
     double e = 0, wsum = 0;
     if (H)
         memset(H, 0, sizeof(double) * (size_t)na * na), memset(gr, 0, sizeof(double) * (size_t)na);
-    for (int t = 0; t < g->nt; t++) {
+    for (int t = 0; t < g->nt; t += TEXEL_STRIDE) {
         int e4[4];
         if (!(p->w[t] > 0) || !fr_sfs_secant_ends(&g->grid, t, e4))
             continue;

@@ -28,6 +28,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/clock.h"
 #include "core/context.h"
 #include "raster/raster.h"
 #include "raster/rotation.h"
@@ -44,6 +45,8 @@
 #define VISIBLE_TOL 0.004
 #define MIN_COS 0.25
 #define MM 1e-3
+
+enum { CPU_REGISTRATION, CPU_SAMPLING, CPU_SHAPE, CPU_LIGHTING, CPU_EXPRESSIONS, CPU_PARTS }; /* the log's parts */
 
 void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
     o->outer = 3;
@@ -835,7 +838,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     if (!st) st = fr_triplets_init(ctx, &tr, s.nt, s.nt, (size_t)s.nt * 32);
     if (!st && o->expression_steps > 0) st = expression_init(ctx, &s);
     /* the photos registered to the rig and the first albedo before the first round */
+    double cpu[CPU_PARTS] = {0}, c0 = fr_cpu_seconds(), c1; /* the log's CPU seconds by part */
     if (o->pose_levels > 0 && !st && k0 < nviews) st = joint_pose(ctx, &s, threads, 0, o->pose_levels);
+    c1 = fr_cpu_seconds(), cpu[CPU_REGISTRATION] += c1 - c0, c0 = c1;
     for (int outer = 0; outer < o->outer && !st && k0 < nviews; outer++) {
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
         for (int k = 0; k < nviews; k++)
@@ -843,6 +848,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         memcpy(s.D_s, s.D, sizeof(double) * (size_t)s.nt);
         update_albedo(&s, threads);
         s.cur = 0;
+        c1 = fr_cpu_seconds(), cpu[CPU_SAMPLING] += c1 - c0, c0 = c1;
         double e = evaluate(&s, s.D, s.albedo, &s.eq[0]), mu = -1;
         int assembled = 0; /* tr and rhs hold the equations at the current D (albedo, lighting) */
         for (int it = 0; it < o->iterations && !st; it++) {
@@ -883,6 +889,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         for (int t = 0; t < s.nt; t++) rms += s.D[t] * s.D[t];
         fr_log(ctx, FRIG_LOG_DEBUG, "sfs: shared shape round %d: energy %.6g, displacement RMS %.3f mm", outer + 1, e,
                sqrt(rms / (s.nt ? s.nt : 1)));
+        c1 = fr_cpu_seconds(), cpu[CPU_SHAPE] += c1 - c0, c0 = c1;
         update_albedo(&s, threads);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
         for (int k = 0; k < nviews; k++) {
@@ -892,11 +899,18 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
             update_lighting(&s, k, &child);
         }
         /* each photo's expression against its pixels, then the registration: the whole pyramid
-         * after the first round, its finest level after the others */
+         * after the first round, its finest level after the last; the rounds between leave the
+         * poses (measured: the same clouds and neutral within noise, docs/sfs.md "Speed") */
+        c1 = fr_cpu_seconds(), cpu[CPU_LIGHTING] += c1 - c0, c0 = c1;
         if (o->expression_steps > 0 && !st) st = expression_step(ctx, &s, threads);
-        int levels = o->pose_levels > 0 ? (outer < 1 ? o->pose_levels : 1) : 0;
+        c1 = fr_cpu_seconds(), cpu[CPU_EXPRESSIONS] += c1 - c0, c0 = c1;
+        int levels = o->pose_levels <= 0 ? 0 : outer == 0 ? o->pose_levels : outer == o->outer - 1 ? 1 : 0;
         if ((o->pose_steps > 0 || levels > 0) && !st) st = joint_pose(ctx, &s, threads, o->pose_steps, levels);
+        c1 = fr_cpu_seconds(), cpu[CPU_REGISTRATION] += c1 - c0, c0 = c1;
     }
+    fr_log(ctx, FRIG_LOG_DEBUG, "sfs: shared shape (CPU s): registration %.2f, sampling and albedo %.2f, shape %.2f, "
+           "albedo and lighting %.2f, expressions %.2f", cpu[CPU_REGISTRATION], cpu[CPU_SAMPLING], cpu[CPU_SHAPE],
+           cpu[CPU_LIGHTING], cpu[CPU_EXPRESSIONS]);
     if (!st) {
         memset(disp, 0, sizeof(float) * (size_t)T * T);
         for (int t = 0; t < s.nt; t++) {
