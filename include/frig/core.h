@@ -171,7 +171,7 @@ typedef enum frig_param {
     /* sfs (section 5.1, Algorithms 4-5; docs/sfs.md) */
     FRIG_PARAM_SFS_FACE_PX = 600,           /* the face's longer side in the crop at most, pixels (default 160) */
     FRIG_PARAM_SFS_ROUNDS = 601,            /* rounds of the shape shared by all photos (default 4) */
-    FRIG_PARAM_SFS_ITERATIONS = 602,        /* Gauss-Newton iterations of each photo's depth (default 2) */
+    FRIG_PARAM_SFS_ITERATIONS = 602,        /* Gauss-Newton iterations of each photo's depth (default 1) */
     FRIG_PARAM_SFS_W_NORMAL = 604,          /* smoothness of the normals' change (default 1) */
     FRIG_PARAM_SFS_W_ANCHOR = 605,          /* eq. 5.13: depth held to the reference depth (default 1000) */
     FRIG_PARAM_SFS_SIGMA = 606,             /* data residual scale, relative intensity (default 0.02) */

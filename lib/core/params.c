@@ -121,7 +121,7 @@ static const param_row rows[] = {
      "shape from shading works on a crop whose face (longer side) is at most this many pixels"},
     {FRIG_PARAM_SFS_ROUNDS, "sfs.rounds", 4, 0, 20, 1,
      "rounds of the shape shared by all photos (albedo, displacement, lighting; Algorithm 4's outer loop); 0: none"},
-    {FRIG_PARAM_SFS_ITERATIONS, "sfs.iterations", 2, 1, 100, 1, "Gauss-Newton iterations of each photo's depth"},
+    {FRIG_PARAM_SFS_ITERATIONS, "sfs.iterations", 1, 1, 100, 1, "Gauss-Newton iterations of each photo's depth"},
     {FRIG_PARAM_SFS_W_NORMAL, "sfs.w_normal", 1, 0, 1e9, 0,
      "weight keeping the change of the normals smooth (second differences of the depth correction)"},
     {FRIG_PARAM_SFS_W_ANCHOR, "sfs.w_anchor", 1000, 0, 1e9, 0,
