@@ -30,7 +30,7 @@
 #define MM 1e-3
 /* The step reads every third texel in the grid's order (a diagonal lattice over the face): some
  * 2,700 texels of three channels for about 55 weights. Measured on seventeen frig synth subjects
- * against every texel (docs/sfs.md, "Speed", fourth pass): the same held-out error and neutral
+ * against every texel (docs/sfs.md, "The fourth pass"): the same held-out error and neutral
  * within noise, the step 2.4 times faster. */
 #define TEXEL_STRIDE 3
 

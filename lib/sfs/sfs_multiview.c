@@ -900,7 +900,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         }
         /* each photo's expression against its pixels, then the registration: the whole pyramid
          * after the first round, its finest level after the last; the rounds between leave the
-         * poses (measured: the same clouds and neutral within noise, docs/sfs.md "Speed") */
+         * poses (measured: the same clouds and neutral within noise, docs/sfs.md "The fourth pass") */
         c1 = fr_cpu_seconds(), cpu[CPU_LIGHTING] += c1 - c0, c0 = c1;
         if (o->expression_steps > 0 && !st) st = expression_step(ctx, &s, threads);
         c1 = fr_cpu_seconds(), cpu[CPU_EXPRESSIONS] += c1 - c0, c0 = c1;
