@@ -23,12 +23,19 @@
  * to recover), --truth-neutral from the true neutral, --truth-rig from the whole true rig: with
  * --truth-weights, what the shared shape adds to a rig that needs nothing (docs/sfs.md);
  * --dump-neutral PATH writes the rig's neutral with the shared displacement as OBJ vertices;
+ * --dump-errors PATH the narrow face's true neutral vertices (x y z), their normals' z and their
+ * distances (m) to the true face before and after the shared displacement, a line each;
+ * "per-photo mean error in the head frame, not aligned" is the clouds' error as retarget sees
+ * them (with --truth-pose, where the head frames agree); "neutral as a surface" the neutral's
+ * distance to the true face (not vertex to vertex: what a displacement along the normals can
+ * fix), by height band and by facing;
  * --write-fits saves the workspace's report with the truth's poses (--truth-pose) and weights
  * (--truth-weights) in place of the fit's and runs nothing else (then frig sfs on it).
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
  *                 [--truth-weights] [--truth-expression] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo]
  *                 [--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] [--pose-noise DEG]
- *                 [--in-span MODEL | --truth-neutral | --truth-rig] [--dump-neutral PATH] [--write-fits] */
+ *                 [--in-span MODEL | --truth-neutral | --truth-rig] [--dump-neutral PATH] [--dump-errors PATH]
+ *                 [--write-fits] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,15 +77,25 @@ static int points(const fr_sfs_view *v, const float *z, const uint8_t *sel, cons
     return n;
 }
 
-static void aligned(frig_ctx *ctx, const fr_tri_tree *ix, const double *p, int n, double st[3]) {
+/* The points' distances to the surface after 'iterations' rounds of a similarity alignment (0:
+ * as they are): st mean, median, p90 mm; each point's distance (metres, INFINITY unmatched) into
+ * out when given. */
+static void aligned_it(frig_ctx *ctx, const fr_tri_tree *ix, const double *p, int n, int iterations, double st[3],
+                       double *out) {
     double *d = malloc(sizeof(double) * (size_t)(n + 1)), s, R[9], t[3];
-    fr_cloud_align(ctx, ix, p, n, 10, 0.01, d, &s, R, t);
+    fr_cloud_align(ctx, ix, p, n, iterations, 0.01, d, &s, R, t);
+    if (out) memcpy(out, d, sizeof(double) * (size_t)n);
     int m = 0;
     for (int i = 0; i < n; i++)
         if (isfinite(d[i])) d[m++] = d[i];
     fr_error_stats(d, m, &st[0], &st[1], &st[2]);
     for (int k = 0; k < 3; k++) st[k] *= 1000;
     free(d);
+}
+
+/* After a similarity alignment (st: mean, median, p90 mm). */
+static void aligned(frig_ctx *ctx, const fr_tri_tree *ix, const double *p, int n, double st[3]) {
+    aligned_it(ctx, ix, p, n, 10, st, NULL);
 }
 
 
@@ -196,7 +213,8 @@ int main(int argc, char **argv) {
         fprintf(stderr, "usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose] "
                         "[--truth-weights] [--truth-expression] [--quiet] [--stereo W] [--joint-pose N] [--joint-albedo] "
                         "[--shape-iterations N] [--shape-sigma S] [--shape-oracle DEG] "
-                        "[--pose-noise DEG] [--pose-levels N] [--pose-sigma PX]\n");
+                        "[--pose-noise DEG] [--pose-levels N] [--pose-sigma PX] [--in-span MODEL | --truth-neutral | "
+                        "--truth-rig] [--dump-neutral PATH] [--dump-errors PATH] [--write-fits] [--verbose]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
@@ -204,7 +222,7 @@ int main(int argc, char **argv) {
     int truth_pose = 0, truth_weights = 0, quiet = 0, pose_steps = -1, joint_albedo = -1, shape_iterations = -1;
     double w_stereo = -1, shape_sigma = -1, oracle_deg = 0, pose_noise = 0, pose_sigma = -1;
     int pose_levels = -1;
-    const char *in_span_model = NULL, *dump_neutral = NULL;
+    const char *in_span_model = NULL, *dump_neutral = NULL, *dump_errors = NULL;
     int truth_neutral = 0, write_fits = 0;
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
@@ -226,6 +244,7 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--pose-sigma") && i + 1 < argc) pose_sigma = atof(argv[++i]);
         else if (!strcmp(argv[i], "--in-span") && i + 1 < argc) in_span_model = argv[++i];
         else if (!strcmp(argv[i], "--dump-neutral") && i + 1 < argc) dump_neutral = argv[++i];
+        else if (!strcmp(argv[i], "--dump-errors") && i + 1 < argc) dump_errors = argv[++i];
         else if (!strcmp(argv[i], "--truth-neutral")) truth_neutral = 1;
         else if (!strcmp(argv[i], "--truth-rig")) truth_neutral = 2;
         else if (!strcmp(argv[i], "--write-fits")) write_fits = 1;
@@ -301,6 +320,58 @@ int main(int argc, char **argv) {
         printf("neutral error along the true normals / tangential (mean |part|): rig %.3f / %.3f mm, with the shared "
                "displacement %.3f / %.3f mm\n", n0, t0s, n1, t1s);
         free(tn);
+        {   /* as surfaces: the narrow face's vertices to the true neutral's face, after a similarity alignment */
+            int32_t *ft = malloc(sizeof(int32_t) * 3 * (size_t)run.mesh.nt);
+            int nft0 = 0;
+            for (int t = 0; t < run.mesh.nt; t++)
+                if (run.mesh.face[t]) memcpy(ft + 3 * nft0++, run.mesh.tris + 3 * t, sizeof(int32_t) * 3);
+            fr_tri_tree *tix = NULL;
+            fr_tri_tree_build(ctx, frig_rig_neutral(truth_rig), ft, nft0, &tix);
+            double *pa = malloc(sizeof(double) * 3 * (size_t)nf), *pb = malloc(sizeof(double) * 3 * (size_t)nf);
+            for (int q = 0; q < 3 * nf; q++) pa[q] = frig_rig_neutral(rig)[q], pb[q] = a[q];
+            double sa[3], sb[3];
+            double *da = malloc(sizeof(double) * (size_t)nf), *db = malloc(sizeof(double) * (size_t)nf);
+            aligned_it(ctx, tix, pa, nf, 10, sa, da), aligned_it(ctx, tix, pb, nf, 10, sb, db);
+            {   /* by region: height bands (chin .. forehead) x centre / side, and by facing */
+                const float *T = frig_rig_neutral(truth_rig);
+                float *tn2 = malloc(sizeof(float) * 3 * (size_t)nv);
+                fr_mesh_vertex_normals(T, nv, run.mesh.tris, run.mesh.nt, tn2);
+                double ymin = 1e9, ymax = -1e9;
+                for (int q = 0; q < nf; q++) ymin = fmin(ymin, T[3 * q + 1]), ymax = fmax(ymax, T[3 * q + 1]);
+                double sa2[5][2][2] = {{{0}}}, cnt[5][2] = {{0}};
+                double fa[3] = {0}, fb[3] = {0}, fc[3] = {0};
+                for (int q = 0; q < nf; q++) {
+                    if (!isfinite(da[q]) || !isfinite(db[q])) continue;
+                    int hb = (int)(5 * (T[3 * q + 1] - ymin) / (ymax - ymin + 1e-9));
+                    int side = fabs(T[3 * q]) > 0.035;
+                    sa2[hb][side][0] += da[q], sa2[hb][side][1] += db[q], cnt[hb][side]++;
+                    int fz = tn2[3 * q + 2] > 0.8 ? 0 : tn2[3 * q + 2] > 0.4 ? 1 : 2;
+                    fa[fz] += da[q], fb[fz] += db[q], fc[fz]++;
+                }
+                printf("  by height band (chin..top) centre | side, fit -> with D (mm):");
+                for (int hb = 0; hb < 5; hb++)
+                    printf(" [%d] %.2f->%.2f | %.2f->%.2f", hb, 1e3 * sa2[hb][0][0] / fmax(cnt[hb][0], 1),
+                           1e3 * sa2[hb][0][1] / fmax(cnt[hb][0], 1), 1e3 * sa2[hb][1][0] / fmax(cnt[hb][1], 1),
+                           1e3 * sa2[hb][1][1] / fmax(cnt[hb][1], 1));
+                printf("\n  by facing (n_z > 0.8, 0.4-0.8, < 0.4): ");
+                for (int fz = 0; fz < 3; fz++)
+                    printf(" %.2f->%.2f (%.0f%%)", 1e3 * fa[fz] / fmax(fc[fz], 1), 1e3 * fb[fz] / fmax(fc[fz], 1), 100 * fc[fz] / nf);
+                printf("\n");
+                if (dump_errors) {
+                    FILE *fo = fopen(dump_errors, "w");
+                    for (int q = 0; fo && q < nf; q++)
+                        fprintf(fo, "%g %g %g %g %g %g\n", T[3 * q], T[3 * q + 1], T[3 * q + 2], tn2[3 * q + 2], da[q], db[q]);
+                    if (fo) fclose(fo);
+                }
+                free(tn2);
+            }
+            free(da), free(db);
+            printf("neutral as a surface (narrow face's vertices to the true face, aligned; mean / median / p90): rig "
+                   "%.3f / %.3f / %.3f mm, with the shared displacement %.3f / %.3f / %.3f mm\n",
+                   sa[0], sa[1], sa[2], sb[0], sb[1], sb[2]);
+            free(pa), free(pb), free(ft);
+            fr_tri_tree_free(tix);
+        }
         if (dump_neutral) write_vertices(dump_neutral, a, nv);
         free(a), free(nr);
     }
@@ -314,6 +385,7 @@ int main(int argc, char **argv) {
     if (!quiet)
         printf("%-14s %6s %6s %6s %5s | %-20s | %-20s | %-20s\n", "photo", "yaw", "rot", "rot'", "kept", "cloud mean/med/p90",
                "reference", "fit (same pixels)");
+    double rawc = 0, rawf = 0;
     double *mc = malloc(sizeof(double) * (size_t)(run.n + 1)), *mr = malloc(sizeof(double) * (size_t)(run.n + 1));
     double *mf = malloc(sizeof(double) * (size_t)(run.n + 1)), *rb = malloc(sizeof(double) * (size_t)(run.n + 1));
     double *ra = malloc(sizeof(double) * (size_t)(run.n + 1)), *rj = malloc(sizeof(double) * (size_t)(run.n + 1));
@@ -394,6 +466,9 @@ int main(int argc, char **argv) {
         fr_tri_tree_build(ctx, txyz, ftris, nft, &ix);
         double c[3], r[3], f[3];
         aligned(ctx, ix, pc, nc, c), aligned(ctx, ix, pr, nr, r), aligned(ctx, ix, pf, nf, f);
+        double c0[3], f0[3];
+        aligned_it(ctx, ix, pc, nc, 0, c0, NULL), aligned_it(ctx, ix, pf, nf, 0, f0, NULL);
+        rawc += c0[0], rawf += f0[0];
         double yaw, pitch, roll;
         fr_rotation_to_euler(tr.R, &yaw, &pitch, &roll);
         rb[rows] = fr_rotation_angle_deg(p->fit_rotation, tr.R), ra[rows] = fr_rotation_angle_deg(R2, tr.R);
@@ -417,6 +492,8 @@ int main(int argc, char **argv) {
         free(sel), free(pc), free(pr), free(pf);
         bench_truth_free(&tr);
     }
+    printf("per-photo mean error in the head frame, not aligned (meaningful with --truth-pose): cloud %.3f mm, fit %.3f mm\n",
+           rawc / (rows ? rows : 1), rawf / (rows ? rows : 1));
     double a[3], b[3], d[3], e[3], g[3];
     fr_error_stats(mc, rows, &a[0], &a[1], &a[2]);
     fr_error_stats(mr, rows, &b[0], &b[1], &b[2]);

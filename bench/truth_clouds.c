@@ -10,9 +10,11 @@
  *     the true relief (true depth minus the true head distance) scaled by the fitted camera's
  *     metres per pixel over the true one's, so the cloud is the true surface scaled uniformly
  *     to the fit's size and carrying the fit's pose error.
+ *   --like-clouds: only the face pixels within 2 pixels of the workspace's own clouds (and margins)
+ *     seen through the fitted pose and camera (the sfs clouds' coverage with the true surface).
  *   --ideal: the face pixels of the true rig at the true pose, placed by the true pose and
  *     camera: the true surface in the true head frame.
- * Usage: truth_clouds WORKSPACE [--ideal] [--stride N] */
+ * Usage: truth_clouds WORKSPACE [--ideal] [--like-clouds] [--stride N] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -31,8 +33,28 @@ static void rig_weights(const frig_rig *rig, int n, char (*names)[64], const dou
     }
 }
 
+/* Keep only the mask's pixels within 2 pixels of a point of 'like' (photo i's cloud and margin)
+ * projected through the fitted pose and camera. */
+static void restrict_to_cloud(const frig_clouds *like, size_t i, const double R[9], const double t[3],
+                              const fr_camera *cam, int W, int H, unsigned char *mask) {
+    size_t n = frig_clouds_count(like, i) + frig_clouds_margin_count(like, i);
+    const float *x = frig_clouds_xyz(like, i);
+    unsigned char *near = calloc((size_t)W * H, 1);
+    double *uv = malloc(sizeof(double) * 2 * (n + 1));
+    if (n) fr_project_points(cam, R, t, x, (int)n, uv, NULL);
+    for (size_t k = 0; k < n; k++) {
+        if (!isfinite(uv[2 * k])) continue;
+        int u = (int)lround(uv[2 * k]), v = (int)lround(uv[2 * k + 1]);
+        for (int dy = -2; dy <= 2; dy++)
+            for (int dx = -2; dx <= 2; dx++)
+                if (u + dx >= 0 && u + dx < W && v + dy >= 0 && v + dy < H) near[(size_t)(v + dy) * W + u + dx] = 1;
+    }
+    for (size_t k = 0; k < (size_t)W * H; k++) mask[k] &= near[k];
+    free(near), free(uv);
+}
+
 static int cloud_of_photo(frig_ctx *ctx, const frig_photoset *set, size_t i, const frig_rig *rig, int ideal,
-                          int stride, frig_clouds *clouds) {
+                          int stride, const frig_clouds *like, frig_clouds *clouds) {
     const char *path = frig_photoset_path(set, i);
     synth_photo_truth tr;
     if (!synth_truth_read(path, 1, &tr)) {
@@ -78,6 +100,7 @@ static int cloud_of_photo(frig_ctx *ctx, const frig_photoset *set, size_t i, con
         mask = depth_cloud_face_mask(ctx, rig, w, R, t, &cam_fit, W, H);
     }
     free(w);
+    if (mask && like) restrict_to_cloud(like, i, R, t, &cam_fit, W, H, mask);
     float *xyz = NULL, *nrm = NULL;
     long n = -1;
     if (mask && (ideal || !persp)) {
@@ -102,10 +125,11 @@ int main(int argc, char **argv) {
         return 2;
     }
     const char *ws = argv[1];
-    int ideal = 0, stride = 1;
+    int ideal = 0, stride = 1, like_clouds = 0;
     for (int i = 2; i < argc; i++) {
         if (!strcmp(argv[i], "--ideal")) ideal = 1;
         else if (!strcmp(argv[i], "--stride") && i + 1 < argc) stride = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--like-clouds")) like_clouds = 1;
         else {
             fprintf(stderr, "unknown option %s\n", argv[i]);
             return 2;
@@ -115,18 +139,19 @@ int main(int argc, char **argv) {
     frig_ctx *ctx = frig_ctx_create();
     frig_photoset *set = NULL;
     frig_rig *rig = NULL;
-    frig_clouds *clouds = NULL;
+    frig_clouds *clouds = NULL, *like = NULL;
     char path[4200];
     snprintf(path, sizeof path, "%s/rig/rig.frigrig", ws);
     if (frig_photoset_load(ctx, ws, &set) || frig_rig_load(ctx, path, &rig) ||
-        frig_clouds_create(ctx, frig_photoset_count(set), &clouds)) {
+        frig_clouds_create(ctx, frig_photoset_count(set), &clouds) ||
+        (like_clouds && frig_clouds_load(ctx, set, ws, &like))) {
         fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
         return 1;
     }
     size_t made = 0, points = 0;
     for (size_t i = 0; i < frig_photoset_count(set); i++) {
         if (frig_photoset_status(set, i) != FRIG_PHOTO_OK || !frig_photoset_fitted(set, i)) continue;
-        if (cloud_of_photo(ctx, set, i, rig, ideal, stride, clouds)) made++, points += frig_clouds_count(clouds, i);
+        if ((!like || frig_clouds_count(like, i)) && cloud_of_photo(ctx, set, i, rig, ideal, stride, like, clouds)) made++, points += frig_clouds_count(clouds, i);
     }
     if (frig_clouds_save(ctx, clouds, set, ws)) {
         fprintf(stderr, "%s\n", frig_ctx_errmsg(ctx));
@@ -135,6 +160,7 @@ int main(int argc, char **argv) {
     printf("%s: %zu clouds (%s), %zu points in all\n", ws, made, ideal ? "ideal: true pose and mask" : "fitted pose",
            points);
     frig_clouds_free(clouds);
+    frig_clouds_free(like);
     frig_rig_free(rig);
     frig_photoset_free(set);
     frig_ctx_free(ctx);
