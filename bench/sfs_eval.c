@@ -29,6 +29,12 @@
  * them (with --truth-pose, where the head frames agree); "neutral as a surface" the neutral's
  * distance to the true face (not vertex to vertex: what a displacement along the normals can
  * fix), by height band and by facing;
+ * --identity MODEL solves the first --identity-modes N (default 40) identity modes of MODEL with the
+ * shared displacement, their weights held by --identity-prior W (default 1) times |fit's + change|^2;
+ * --identity-rigid adds a turn and shift of the whole surface (a common pose error's) to the unknowns;
+ * the neutral's measures are then of the rig with the identity change and the displacement;
+ * --truth-focal the truth's focal length with the fit's pose (its translation scaled to keep the face's
+ * place and size);
  * --write-fits saves the workspace's report with the truth's poses (--truth-pose) and weights
  * (--truth-weights) in place of the fit's and runs nothing else (then frig sfs on it).
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
@@ -55,6 +61,7 @@
 #include "sfs_truth.h"
 #include "workspace/photoset.h"
 #include "mesh/point_align.h"
+#include "model/model.h"
 
 static double now(void) {
     struct timespec ts;
@@ -149,6 +156,22 @@ static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int po
     }
 }
 
+/* --truth-focal: each photo's focal length made the truth's, its translation scaled with it (the
+ * head's origin projects where it did, the face keeps its size in the picture). */
+static void set_truth_focal(const frig_rig *truth_rig, frig_photoset *set) {
+    for (size_t i = 0; i < set->count; i++) {
+        fr_photo *p = &set->photos[i];
+        bench_truth tr;
+        memset(&tr, 0, sizeof tr);
+        if (p->fitted && p->fit_focal > 0 && bench_truth_load(p->path, truth_rig, &tr) && tr.has_face && tr.f > 0) {
+            double sc = tr.f / p->fit_focal;
+            for (int q = 0; q < 3; q++) p->fit_translation[q] *= sc;
+            p->fit_focal = tr.f;
+        }
+        bench_truth_free(&tr);
+    }
+}
+
 /* The rotation error of the poses R (9 per photo) against the truth's after the head-frame turn
  * common to all of them (a gauge for the shared solve): per photo into err, stats into st (mean,
  * median, p90); returns the common turn in degrees. */
@@ -223,7 +246,9 @@ int main(int argc, char **argv) {
     double w_stereo = -1, shape_sigma = -1, oracle_deg = 0, pose_noise = 0, pose_sigma = -1;
     int pose_levels = -1;
     const char *in_span_model = NULL, *dump_neutral = NULL, *dump_errors = NULL;
-    int truth_neutral = 0, write_fits = 0;
+    int truth_neutral = 0, write_fits = 0, id_modes = 40, truth_focal = 0, id_rigid = 0;
+    const char *id_model = NULL;
+    double id_prior = 1.0;
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
             if (bench_set_param(ctx, argv[++i])) return 2;
@@ -248,6 +273,11 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--truth-neutral")) truth_neutral = 1;
         else if (!strcmp(argv[i], "--truth-rig")) truth_neutral = 2;
         else if (!strcmp(argv[i], "--write-fits")) write_fits = 1;
+        else if (!strcmp(argv[i], "--identity") && i + 1 < argc) id_model = argv[++i];
+        else if (!strcmp(argv[i], "--truth-focal")) truth_focal = 1;
+        else if (!strcmp(argv[i], "--identity-rigid")) id_rigid = 1;
+        else if (!strcmp(argv[i], "--identity-modes") && i + 1 < argc) id_modes = atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--identity-prior") && i + 1 < argc) id_prior = atof(argv[++i]);
         else {
             fprintf(stderr, "unknown argument %s\n", argv[i]);
             return 2;
@@ -262,6 +292,7 @@ int main(int argc, char **argv) {
     if (frig_rig_load(ctx, path, &truth_rig)) goto fail;
     if (frig_photoset_load(ctx, argv[2], &set)) goto fail;
     if (truth_pose || truth_weights) set_truth_fits(truth_rig, set, truth_pose, truth_weights, pose_noise);
+    if (truth_focal) set_truth_focal(truth_rig, set);
     if (write_fits) { /* the workspace's fits replaced (--truth-pose, --truth-weights), nothing else run */
         frig_status ws = frig_photoset_save(ctx, set, argv[2]);
         frig_photoset_free(set), frig_rig_free(rig), frig_rig_free(truth_rig), frig_ctx_free(ctx);
@@ -278,6 +309,24 @@ int main(int argc, char **argv) {
     if (pose_sigma > 0) st.pose_sigma_px = pose_sigma;
     if (shape_iterations > 0) st.shape_iterations = shape_iterations;
     if (shape_sigma > 0) st.shape_sigma = shape_sigma;
+    frig_model *idm = NULL;
+    double *id_start = NULL;
+    if (id_model) {
+        if (frig_model_load(ctx, id_model, &idm)) goto fail;
+        if (idm->topo.vertex_count != frig_rig_vertex_count(rig)) {
+            fprintf(stderr, "--identity: the model does not fit the rig\n");
+            return 1;
+        }
+        st.identity_modes = idm->identity;
+        st.identity_count = id_modes < idm->identity_count ? id_modes : idm->identity_count;
+        st.identity_prior = id_prior;
+        id_start = calloc((size_t)st.identity_count + 1, sizeof(double));
+        for (int k = 0; k < st.identity_count && k < set->n_identity && set->identity; k++) id_start[k] = set->identity[k];
+        st.identity_start = id_start;
+        st.identity_rigid = id_rigid;
+        printf("identity: %d modes, prior %g, from the fit's identity (%d weights in the workspace)\n", st.identity_count,
+               id_prior, set->n_identity);
+    }
     uint8_t *oracle = NULL;
     if (oracle_deg > 0) {
         /* the shared shape from the photos whose fit is within oracle_deg of the truth's rotation */
@@ -304,6 +353,18 @@ int main(int argc, char **argv) {
         float *a = malloc(sizeof(float) * 3 * (size_t)nv), *nr = malloc(sizeof(float) * 3 * (size_t)nv);
         memcpy(a, frig_rig_neutral(rig), sizeof(float) * 3 * (size_t)nv);
         double before = fr_aligned_mean_distance(frig_rig_neutral(truth_rig), a, nf);
+        if (run.mesh.ident) {
+            /* the rig's neutral with the identity change the shared solve found */
+            for (size_t q = 0; q < 3 * (size_t)nv; q++) a[q] += run.mesh.ident[q];
+            double b2 = 0, bt = 0;
+            for (int k = 0; k < run.st.identity_count; k++) b2 += run.ident[k] * run.ident[k];
+            for (int k = 0; k < run.st.identity_count; k++) bt += (id_start[k] + run.ident[k]) * (id_start[k] + run.ident[k]);
+            printf("identity change: |change| %.3f (|fit + change| %.3f), neutral with it alone %.3f mm\n", sqrt(b2), sqrt(bt),
+                   1e3 * fr_aligned_mean_distance(frig_rig_neutral(truth_rig), a, nf));
+            printf("identity change weights:");
+            for (int k = 0; k < run.st.identity_count; k++) printf(" %.4f", run.ident[k]);
+            printf("\n");
+        }
         fr_mesh_vertex_normals(a, nv, run.mesh.tris, run.mesh.nt, nr);
         double rms = 0;
         for (int q = 0; q < nv; q++) {
@@ -316,6 +377,14 @@ int main(int argc, char **argv) {
         fr_mesh_vertex_normals(frig_rig_neutral(truth_rig), nv, run.mesh.tris, run.mesh.nt, tn);
         double n0, t0s, n1, t1s;
         split_error(frig_rig_neutral(truth_rig), tn, frig_rig_neutral(rig), nf, &n0, &t0s);
+        if (run.mesh.ident) {
+            float *ai = malloc(sizeof(float) * 3 * (size_t)nv);
+            for (size_t q = 0; q < 3 * (size_t)nv; q++) ai[q] = frig_rig_neutral(rig)[q] + run.mesh.ident[q];
+            double ni, ti;
+            split_error(frig_rig_neutral(truth_rig), tn, ai, nf, &ni, &ti);
+            printf("neutral error along the true normals / tangential with the identity change alone: %.3f / %.3f mm\n", ni, ti);
+            free(ai);
+        }
         split_error(frig_rig_neutral(truth_rig), tn, a, nf, &n1, &t1s);
         printf("neutral error along the true normals / tangential (mean |part|): rig %.3f / %.3f mm, with the shared "
                "displacement %.3f / %.3f mm\n", n0, t0s, n1, t1s);
@@ -522,7 +591,8 @@ int main(int argc, char **argv) {
                "with eq. 5.15 (of %ld); good skin kept %.1f%% by the skin mask, %.1f%% with eq. 5.15 (of %ld)\n",
                100.0 * bad_skin / (bad ? bad : 1), 100.0 * bad_kept / (bad ? bad : 1), bad,
                100.0 * good_skin / (good ? good : 1), 100.0 * good_kept / (good ? good : 1), good);
-    free(oracle);
+    free(oracle), free(id_start);
+    frig_model_free(idm);
     free(mc), free(mr), free(mf), free(rb), free(ra), free(rj), free(qw), free(Rtrue), free(Rfit), free(Rjs), free(txyz), free(ftris);
     fr_sfs_mesh_free(&tm);
     fr_sfs_run_free(&run);

@@ -22,14 +22,17 @@ const char cmd_sfs_usage[] =
     "\n"
     "  -w, --workspace DIR   the workspace folder\n"
     "  --no-overlays         skip the pictures\n"
+    "  --model FILE          the model file, read when sfs.identity_modes > 0 (default: $FRIG_MODEL or the user\n"
+    "                        data folder)\n"
     "Parameters: sfs.* (frig help params; docs/sfs.md).\n";
 
 int cmd_sfs(cli_env *env, int argc, char **argv) {
-    const char *ws = NULL;
+    const char *ws = NULL, *model_path = NULL;
     int overlays = 1;
     for (int i = 0; i < argc; i++) {
         if ((!strcmp(argv[i], "-w") || !strcmp(argv[i], "--workspace")) && i + 1 < argc) ws = argv[++i];
         else if (!strcmp(argv[i], "--no-overlays")) overlays = 0;
+        else if (!strcmp(argv[i], "--model") && i + 1 < argc) model_path = argv[++i];
         else return cli_usage_error("sfs", "unexpected argument '%s' (see frig help sfs)", argv[i]);
     }
     if (!ws) return cli_usage_error("sfs", "no workspace given (-w DIR)");
@@ -37,12 +40,20 @@ int cmd_sfs(cli_env *env, int argc, char **argv) {
     frig_rig *rig = NULL;
     frig_clouds *clouds = NULL;
     frig_image *albedo = NULL;
+    frig_model *model = NULL;
     int rc = CLI_OK;
     char path[4096], dir[4096];
     snprintf(path, sizeof path, "%s/rig/rig.frigrig", ws);
     snprintf(dir, sizeof dir, "%s/overlays/sfs", ws);
-    if (frig_photoset_load(env->ctx, ws, &set) || frig_rig_load(env->ctx, path, &rig) ||
-        frig_sfs(env->ctx, rig, set, overlays ? dir : NULL, &clouds, &albedo) ||
+    if (frig_photoset_load(env->ctx, ws, &set) || frig_rig_load(env->ctx, path, &rig)) {
+        rc = cli_fail(env, "sfs");
+        goto done;
+    }
+    /* the model's identity modes in the shared solve (sfs.identity_modes; 0: no model read) */
+    if (frig_ctx_get_param(env->ctx, FRIG_PARAM_SFS_IDENTITY_MODES) > 0 &&
+        (rc = cli_load_model(env, "sfs", model_path, &model)) != CLI_OK)
+        goto done;
+    if (frig_sfs_with_model(env->ctx, model, rig, set, overlays ? dir : NULL, &clouds, &albedo) ||
         frig_clouds_save(env->ctx, clouds, set, ws)) {
         rc = cli_fail(env, "sfs");
         goto done;
@@ -68,5 +79,6 @@ done:
     frig_clouds_free(clouds);
     frig_rig_free(rig);
     frig_photoset_free(set);
+    frig_model_free(model);
     return rc;
 }

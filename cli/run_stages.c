@@ -358,7 +358,9 @@ static int fit_run(run_ctx *r) {
 static int sfs_run(run_ctx *r) {
     cli_env *env = r->env;
     frig_photoset *set = NULL;
-    int rc = run_load_set(r, &set);
+    /* the model's identity modes in the shared solve (sfs.identity_modes) */
+    int rc = frig_ctx_get_param(env->ctx, FRIG_PARAM_SFS_IDENTITY_MODES) > 0 ? run_load_model(r) : CLI_OK;
+    if (!rc) rc = run_load_set(r, &set);
     if (rc) return rc;
     frig_rig *rig = NULL;
     frig_clouds *clouds = NULL;
@@ -369,7 +371,7 @@ static int sfs_run(run_ctx *r) {
     cli_clear_jpegs(overlays);
     snprintf(path, sizeof path, "%s/albedo.png", dir);
     if (frig_rig_load(env->ctx, r->rig_from, &rig)) rc = cli_fail(env, "run");
-    else if (frig_sfs(env->ctx, rig, set, overlays, &clouds, &albedo)) {
+    else if (frig_sfs_with_model(env->ctx, r->model, rig, set, overlays, &clouds, &albedo)) {
         if (frig_ctx_status(env->ctx) != FRIG_ERR_TOO_FEW) rc = fail_or_interrupted(r);
         else unlink(path); /* no photo's shading could be read: retarget keeps the fit's rig */
     }
@@ -534,8 +536,9 @@ const run_stage run_stages[] = {
      "report.json, the photos, the face model", "stages/fit/report.json stages/fit/rig.frigrig overlays/fit",
      "stages/fit/report.json stages/fit/rig.frigrig", 1, 1, NULL, fit_options, fit_run},
     {"sfs", "a point cloud per photo from its shading, the subject's albedo (section 5.1)", "sfs. image.",
-     "report.json, the photos, the fit's rig", "stages/sfs/report.json stages/sfs/clouds stages/sfs/albedo.png overlays/sfs",
-     "stages/sfs/report.json stages/sfs/clouds stages/sfs/albedo.png", 1, 0, NULL, NULL, sfs_run},
+     "report.json, the photos, the fit's rig, the face model (sfs.identity_modes)",
+     "stages/sfs/report.json stages/sfs/clouds stages/sfs/albedo.png overlays/sfs",
+     "stages/sfs/report.json stages/sfs/clouds stages/sfs/albedo.png", 1, 0, NULL, fit_options, sfs_run},
     {"retarget", "the personalized rig from the clouds, refit and sfs again (sections 5.2-5.3)", "retarget. fit. sfs. image.",
      "report.json, the clouds, the fit's rig, the face model",
      "stages/retarget/report.json stages/retarget/rig.frigrig clouds textures overlays/retarget",

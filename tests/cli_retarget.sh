@@ -57,7 +57,7 @@ check "$py -c 'import sys; sys.exit(0 if float(\"$r_aligned\") < 0.85 * float(\"
 
 # The outer loop with the sfs stage recovering the clouds each round.
 w="$tmp/ws_sfs"
-"$F" --quiet --threads 2 sfs -w "$w" --no-overlays
+"$F" --quiet --threads 2 sfs -w "$w" --no-overlays --model "$M"
 check '[ $? = 0 ] && [ -s "$w/textures/albedo.png" ]'
 sum_before=$(cat "$w"/clouds/*.ply | md5sum)
 "$F" --threads 2 retarget -w "$w" --model "$M" --iterations 2 2>"$tmp/log_sfs"

@@ -25,7 +25,7 @@ M="$FRIG_TEST_MODEL"
 check '[ $? = 0 ]'
 "$F" --quiet detect "$tmp/synth/subject_00/photos" -w "$tmp/ws" --no-overlays && "$F" --quiet fit -w "$tmp/ws" --model "$M" --no-overlays
 check '[ $? = 0 ]'
-"$F" --quiet sfs -w "$tmp/ws"
+"$F" --quiet sfs -w "$tmp/ws" --model "$M"
 check '[ $? = 0 ]'
 summary=$($py - "$tmp/ws" "$tmp/synth/subject_00/truth" <<'PY'
 import json, os, struct, sys
@@ -71,7 +71,7 @@ check '[ "$nclouds" -ge 4 ] && [ "$nbad" = 0 ] && [ "$tw" = 512 ] && [ "$th" = 5
 check '[ "$nmargins" -ge 1 ]'   # sfs.cloud_region 2: the neck, ears and scalp apart
 # A rerun judges the same photos again and writes the same clouds.
 mkdir -p "$tmp/first" && cp "$tmp/ws/clouds/"*.ply "$tmp/first/"
-"$F" --quiet --threads 1 sfs -w "$tmp/ws" --no-overlays
+"$F" --quiet --threads 1 sfs -w "$tmp/ws" --no-overlays --model "$M"
 check '[ $? = 0 ]'
 for f in "$tmp/first/"*.ply; do check 'cmp -s "$f" "$tmp/ws/clouds/$(basename "$f")"'; done
 # frig export takes the albedo as the face's texture.

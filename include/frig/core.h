@@ -193,7 +193,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_JOINT_ALBEDO = 622,      /* 1: the shared shape's albedo solved with the displacement (default 1) */
     FRIG_PARAM_SFS_SHAPE_ITERATIONS = 623,  /* Gauss-Newton iterations of the shared shape per round (default 8) */
     FRIG_PARAM_SFS_SHAPE_SIGMA = 624,       /* the shared shape's residual scale, relative intensity (default 0.1) */
-    FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 0) */
+    FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 3) */
     FRIG_PARAM_SFS_JOINT_MIN_PHOTOS = 626,  /* fewer photos: the light shared solve, no registration (default 16; docs/sfs.md) */
     FRIG_PARAM_SFS_JOINT_MAX_PHOTOS = 627,  /* more photos: the light shared solve too, for time (default 60; 0: no limit) */
     FRIG_PARAM_SFS_EXPRESSION_STEPS = 628,  /* each photo's expression steps per full shared round (default 3; 0 off) */
@@ -201,6 +201,9 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_EXPRESSION_SPARSE = 630, /* L1 on the refined expression weights (default 0.3) */
     FRIG_PARAM_SFS_CLOUD_REGION = 631,      /* the clouds' pixels: 2 the narrow face, the rest of the face region in
                                                the cloud's margin (default); 1 the narrow face only; 0 all in the cloud */
+    FRIG_PARAM_SFS_IDENTITY_MODES = 632,    /* the model's first N identity modes solved with the shared shape, with
+                                               frig_sfs_with_model (default 40; 0 off) */
+    FRIG_PARAM_SFS_IDENTITY_PRIOR = 633,    /* weight of their prior N(0, I) in the shared solve's energy (default 1) */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

@@ -11,6 +11,7 @@
 
 #include "frig/clouds.h"
 #include "frig/image.h"
+#include "frig/model.h"
 #include "frig/photoset.h"
 #include "frig/rig.h"
 
@@ -33,6 +34,14 @@ extern "C" {
  * FRIG_ERR_TOO_FEW when no photo can be used. Parallel across photos, deterministic. */
 FRIG_API frig_status frig_sfs(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const char *overlay_dir,
                               frig_clouds **clouds, frig_image **albedo);
+
+/* frig_sfs with the morphable model the rig was fitted with (NULL: frig_sfs): with
+ * sfs.identity_modes > 0 its first identity modes are solved with the shape all photos share,
+ * from the set's fitted identity (frig_photoset_identity), so that the face may move along its
+ * surface as well as across it; the clouds carry the change (docs/sfs.md). */
+FRIG_API frig_status frig_sfs_with_model(frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
+                                         frig_photoset *set, const char *overlay_dir, frig_clouds **clouds,
+                                         frig_image **albedo);
 
 #ifdef __cplusplus
 }

@@ -168,7 +168,7 @@ static const param_row rows[] = {
      "Gauss-Newton iterations of the shared shape per round"},
     {FRIG_PARAM_SFS_SHAPE_SIGMA, "sfs.shape_sigma", 0.1, 1e-3, 1, 0,
      "the shared shape's residual scale, relative intensity of one standard deviation"},
-    {FRIG_PARAM_SFS_JOINT_POSE, "sfs.joint_pose", 0, 0, 50, 1,
+    {FRIG_PARAM_SFS_JOINT_POSE, "sfs.joint_pose", 3, 0, 50, 1,
      "Levenberg-Marquardt steps of each photo's pose against the shared shape's shading after each round (0 off)"},
     {FRIG_PARAM_SFS_JOINT_MIN_PHOTOS, "sfs.joint_min_photos", 16, 0, 1e6, 1,
      "with fewer photos to judge than this, the shared shape is solved the light way (albedo alternated, no multi-view "
@@ -190,6 +190,11 @@ static const param_row rows[] = {
      "the pixels a cloud may keep: 1 the narrow face (no neck, ears or scalp: their points were 1.5-2.3 mm off, twice "
      "the rest, and pulled every cloud's alignment), 2 the same with the rest written as the cloud's margin "
      "(clouds/margin/, read by retarget), 0 the whole face region the skin model judges"},
+    {FRIG_PARAM_SFS_IDENTITY_MODES, "sfs.identity_modes", 40, 0, 1000, 1,
+     "the model's first N identity modes solved with the shared shape from the fit's identity, so that the face may "
+     "move along its surface as well as across it (frig_sfs_with_model; frig sfs --model; 0 off)"},
+    {FRIG_PARAM_SFS_IDENTITY_PRIOR, "sfs.identity_prior", 1, 0, 1e9, 0,
+     "weight of the identity weights' prior |w|^2 (standard deviations) against the shared solve's robust energy"},
 
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,

@@ -56,12 +56,12 @@ frig_status fr_rt_pending_albedo_finish(frig_ctx *ctx) {
 
 frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
                                       frig_photoset *set, frig_clouds **clouds) {
-    (void)model;
     if (!rig || !set || !clouds) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget_recover_sfs: NULL argument");
     frig_image **albedo = user, *a = NULL;
     frig_clouds *c = NULL;
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
+    fr_sfs_settings_identity(ctx, &st, model, set);
     int iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_ITERATIONS);
     if (iterations > 0) st.iterations = iterations;
     int shape_iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS);

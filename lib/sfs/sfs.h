@@ -48,9 +48,22 @@ typedef struct fr_sfs_settings {
     double expression_prior;  /* held to the fit's weights */
     double expression_sparse; /* L1 */
     const uint8_t *shape_use; /* per photo of the set: used by the shared shape (NULL: every usable photo) */
+    /* the model's identity modes solved with the shared shape (NULL / 0: off; set by the caller, not a
+     * parameter): identity_count modes of 3 nv floats each (standard deviations), the weights' prior
+     * identity_prior |identity_start + change|^2 in the shared solve's energy units (identity_start: the
+     * fitted identity's first identity_count weights, NULL for zeros) */
+    const float *identity_modes;
+    int identity_count;
+    double identity_prior;
+    const double *identity_start;
+    int identity_rigid; /* 1: a rigid turn and shift of the surface solved with the identity */
 } fr_sfs_settings;
 
 void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s);
+/* With sfs.identity_modes > 0: the model's first identity modes (at most the model's and the set's
+ * fitted identity's counts) solved with the shared shape from the set's fitted identity. The
+ * settings borrow the model's and the set's arrays. Nothing without a model. */
+void fr_sfs_settings_identity(const frig_ctx *ctx, fr_sfs_settings *s, const frig_model *model, const frig_photoset *set);
 /* The shared solve as it was before the registration and J became the default (2026-12-02): the
  * albedo alternated with the displacement, no multi-view term, no pose registration, at most 3
  * rounds of 4 iterations, residual scale 0.03; for sets of fewer than joint_min_photos photos or
@@ -68,12 +81,14 @@ typedef struct fr_sfs_mesh {
     uint8_t *core;    /* per drawn triangle: a face triangle of the narrow face (no neck, ears, scalp) */
     const float *uvs; /* 2 per uv index */
     uint8_t *face_vertex; /* per vertex: used by a face triangle */
+    float *ident;     /* NULL, or per vertex an identity change (3 nv, metres) added to the rig wherever it is
+                       * evaluated (the shared solve's identity modes; owned, freed with the mesh) */
 } fr_sfs_mesh;
 
 frig_status fr_sfs_mesh_init(frig_ctx *ctx, const frig_rig *rig, fr_sfs_mesh *m);
 void fr_sfs_mesh_free(fr_sfs_mesh *m);
 /* The rig at weights (one per rig shape; only non-zero weights are summed, in double, so the
- * result does not depend on BLAS), 3 floats per vertex. */
+ * result does not depend on BLAS), plus m->ident when there is one, 3 floats per vertex. */
 void fr_sfs_mesh_eval(const fr_sfs_mesh *m, const double *weights, float *xyz);
 
 /* ---- one photo's view ---- */

@@ -53,7 +53,7 @@ frig_status fr_sfs_mesh_init(frig_ctx *ctx, const frig_rig *rig, fr_sfs_mesh *m)
 }
 
 void fr_sfs_mesh_free(fr_sfs_mesh *m) {
-    free(m->tris), free(m->tri_uv), free(m->face), free(m->core), free(m->face_vertex);
+    free(m->tris), free(m->tri_uv), free(m->face), free(m->core), free(m->face_vertex), free(m->ident);
     memset(m, 0, sizeof *m);
 }
 
@@ -66,6 +66,7 @@ void fr_sfs_mesh_eval(const fr_sfs_mesh *m, const double *weights, float *xyz) {
     for (size_t i = 0; i < n3; i++) {
         double v = r->neutral[i];
         for (int a = 0; a < na; a++) v += weights[active[a]] * r->deltas[n3 * (size_t)active[a] + i];
+        if (m->ident) v += m->ident[i];
         xyz[i] = (float)v;
     }
 }

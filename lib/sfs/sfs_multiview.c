@@ -22,7 +22,19 @@
  * the views drawn again at their new poses); and each photo's pose registered coarse to fine
  * (sfs_pose_align.c: blurred photometric and occluding-contour terms, a wider basin) before the
  * first round and after each (the whole pyramid after the first, its finest level after the
- * others). */
+ * others).
+ * With a model (o->id_count > 0: sfs.identity_modes, 40 by default through frig_sfs_with_model; docs/sfs.md,
+ * "The identity's modes in the shared solve") the model's first identity modes are unknowns too: the
+ * surface is P_k(t) = X_k(t) + U(t) (beta - beta_s) + D(t) n_k(t), U the modes at the texel, the same
+ * change in every expression, held by id_prior |fit's weights + beta|^2. Each texel's terms are also
+ * kept by its stencil points' head-frame positions (15 x 15, the albedo eliminated from them too), so
+ * that the identity's M x M block is sum_t U^T A_t U and its coupling to D sparse x dense; the step
+ * solves the damped D block for the coupling's M columns and the rhs, then the identity's Schur
+ * complement. After each round the change is baked into the rig (the mesh's ident: every view, the
+ * registration, the reference and the depth draw it), the photos' texel geometry and views drawn
+ * again, beta_s = beta. */
+#include <cblas.h>
+#undef I /* complex.h's, through cblas.h: the views' images are I here */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -63,6 +75,8 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
     o->expression_steps = 0;
     o->expression_prior = 0.3;
     o->expression_sparse = 0.3;
+    o->id_modes = NULL, o->id_count = 0, o->id_prior = 1.0, o->id_start = NULL, o->id_change = NULL;
+    o->id_rigid = 0;
 }
 
 /* One photo's view of the texels: the rig's texel points and normals at its expression, and
@@ -73,14 +87,21 @@ typedef struct photo_texels {
     float *I;       /* 3 per texel */
     float *dI;      /* 3 per texel: d I / d D (per mm) through the projection (the multi-view term) */
     float *w;       /* per texel: 0 = not seen, else the view cosine */
+    float *gP;      /* with identity modes, 9 per texel: d I_c / d P_q (per metre, head frame) through the projection */
 } photo_texels;
 
 /* Every texel's data terms over its stencil [t, left, right, up, down]: H (15 per texel: the upper
  * triangle, row by row), g (5), and for the joint albedo Haa (3), HaD (15: 3 x the stencil's 5) and
  * ga (3). */
 #define HN (FR_SFS_STENCIL * (FR_SFS_STENCIL + 1) / 2)
+#define NP (3 * FR_SFS_STENCIL)
+#define HP (NP * (NP + 1) / 2)
 typedef struct texel_eqs {
     double *H, *g, *Haa, *HaD, *ga;
+    /* with identity modes, by the stencil points' head-frame positions (15 = 5 points x 3, per
+     * metre): A (the upper triangle), B (5 x 15: D by position), gp (15), Hap (3 x 15: albedo by
+     * position); after the albedo's elimination when it is joint */
+    double *A, *B, *gp, *Hap;
 } texel_eqs;
 
 typedef struct mv {
@@ -111,6 +132,18 @@ typedef struct mv {
     double *w0;         /* per view: the weights it started with (the expression step's prior) */
     double *e_texel;         /* per texel: its 3 energy terms (evaluate()) */
     int threads;
+    /* identity modes (o->id_count > 0) */
+    int M;              /* unknowns: the model's Mid modes, then (o->id_rigid) 6 rigid ones */
+    int Mid;
+    double *U;          /* per texel 3 x M (row by row): the modes at the texel, metres */
+    double *beta, *beta_s, *beta_try, *dbeta; /* the identity change (its weights): now, baked into the rig, tried, step */
+    double *Xb;         /* 3 per texel: U (beta - beta_s) at the point evaluated (evaluate()) */
+    double *dXb;        /* 3 per texel: U dbeta */
+    double *C;          /* nt x (M + 1), column-major: D by identity (assemble()), then the rhs */
+    double *Y;          /* nt x (M + 1): the damped D block's solutions */
+    double *Hbb, *gb, *S; /* M x M, M, M x M */
+    double dmean;       /* the D block's mean diagonal at the first assembly (the identity's damping scale) */
+    double cpu_id[4];   /* CPU s: evaluations, the identity's assembly, the solves, the bakes (the log) */
 } mv;
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
@@ -181,6 +214,12 @@ static void photo_sample(mv *s, int k) {
             double du = MM * (J[0] * nc[0] + J[1] * nc[1] + J[2] * nc[2]);
             double dv = MM * (J[3] * nc[0] + J[4] * nc[1] + J[5] * nc[2]);
             for (int c = 0; c < 3; c++) p->dI[3 * (size_t)t + c] = (float)(s->o->w_stereo * (gx[c] * du + gy[c] * dv));
+            if (p->gP) /* by head-frame position: the projection's Jacobian through R */
+                for (int q = 0; q < 3; q++) {
+                    double ju = J[0] * v->R[q] + J[1] * v->R[3 + q] + J[2] * v->R[6 + q];
+                    double jv = J[3] * v->R[q] + J[4] * v->R[3 + q] + J[5] * v->R[6 + q];
+                    for (int c = 0; c < 3; c++) p->gP[9 * (size_t)t + 3 * c + q] = (float)(s->o->w_stereo * (gx[c] * ju + gy[c] * jv));
+                }
         }
         p->w[t] = (float)(cosv * v->photo_weight);
     }
@@ -189,13 +228,15 @@ static void photo_sample(mv *s, int k) {
 /* The displaced surface's unit normal at texel t in photo k (head frame; sfs_texel_normal.h),
  * and its derivatives by D over t's stencil [t, left, right, up, down] (each 3, per mm; a missing
  * neighbour's part is t's). Returns 0 when t has no normal. */
-static int texel_normal(const mv *s, const double *D, int k, int t, double N[3], double dN[FR_SFS_STENCIL][3]) {
+static int texel_normal_at(const mv *s, const double *D, const double *Xb, int k, int t, double N[3],
+                           double dN[FR_SFS_STENCIL][3], double sec[7]) {
     int e[4];
     if (!fr_sfs_secant_ends(&s->grid, t, e)) return 0;
     const photo_texels *p = &s->pt[k];
     double P[4][3], ex[3], ey[3], c[3];
     for (int a = 0; a < 4; a++)
-        for (int q = 0; q < 3; q++) P[a][q] = p->X[3 * (size_t)e[a] + q] + D[e[a]] * MM * p->n[3 * (size_t)e[a] + q];
+        for (int q = 0; q < 3; q++)
+            P[a][q] = p->X[3 * (size_t)e[a] + q] + D[e[a]] * MM * p->n[3 * (size_t)e[a] + q] + (Xb ? Xb[3 * (size_t)e[a] + q] : 0);
     for (int q = 0; q < 3; q++) ex[q] = P[1][q] - P[0][q], ey[q] = P[3][q] - P[2][q];
     fr_sfs_cross(ex, ey, c);
     double sg = s->sign[t];
@@ -204,6 +245,10 @@ static int texel_normal(const mv *s, const double *D, int k, int t, double N[3],
     double l = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
     if (!(l > 0)) return 0;
     for (int q = 0; q < 3; q++) N[q] = c[q] / l;
+    if (sec) {
+        for (int q = 0; q < 3; q++) sec[q] = ex[q], sec[3 + q] = ey[q];
+        sec[6] = l;
+    }
     if (!dN) return 1;
     /* dc/dD at the ends: s (d ex x ey + ex x d ey); d ex = -n_left, n_right; d ey = -n_up, n_down (per mm) */
     double dc[FR_SFS_STENCIL][3];
@@ -221,6 +266,10 @@ static int texel_normal(const mv *s, const double *D, int k, int t, double N[3],
         for (int q = 0; q < 3; q++) dN[j][q] = (dc[j][q] - proj * N[q]) / l;
     }
     return 1;
+}
+
+static int texel_normal(const mv *s, const double *D, int k, int t, double N[3], double dN[FR_SFS_STENCIL][3]) {
+    return texel_normal_at(s, D, NULL, k, t, N, dN, NULL);
 }
 
 double fr_sfs_tukey_w(double u) {
@@ -261,6 +310,15 @@ static void observed(const mv *s, const photo_texels *p, const double *D, int t,
     for (int c = 0; c < 3; c++) I[c] = p->I[3 * (size_t)t + c] + p->dI[3 * (size_t)t + c] * dd;
 }
 
+/* The same with the identity change's offset Xb at the texels (NULL: none). */
+static void observed_at(const mv *s, const photo_texels *p, const double *D, const double *Xb, int t, double I[3]) {
+    observed(s, p, D, t, I);
+    if (!Xb || !p->gP) return;
+    const double *x = Xb + 3 * (size_t)t;
+    const float *gp = p->gP + 9 * (size_t)t;
+    for (int c = 0; c < 3; c++) I[c] += gp[3 * c] * x[0] + gp[3 * c + 1] * x[1] + gp[3 * c + 2] * x[2];
+}
+
 static double obs_scale(const mv *s, const float *I) {
     double m = (I[0] + I[1] + I[2]) / 3.0;
     return s->o->sigma * (m > INTENSITY_FLOOR ? m : INTENSITY_FLOOR);
@@ -285,19 +343,30 @@ static int curv(const mv *s, int t, int dir, int nb[3]) {
  * data terms (all photos); with the joint albedo, the texel's albedo eliminated (its Schur
  * complement has the same stencil) and its terms kept for the back-substitution; and the data
  * energy (its robust terms summed photo by photo, channel by channel). */
-static double texel_normal_equations(const mv *s, const double *D, const float *albedo, int t, const texel_eqs *eqs) {
+static double texel_normal_equations(const mv *s, const double *D, const double *Xb, const float *albedo, int t,
+                                     const texel_eqs *eqs) {
     enum { NS = FR_SFS_STENCIL };
     double *H = eqs->H + HN * (size_t)t, *g = eqs->g + NS * (size_t)t, e = 0;
     memset(H, 0, HN * sizeof *H), memset(g, 0, NS * sizeof *g);
     double *Haa = eqs->Haa + 3 * (size_t)t, *HaD = eqs->HaD + 3 * NS * (size_t)t, *ga = eqs->ga + 3 * (size_t)t;
     memset(Haa, 0, 3 * sizeof *Haa), memset(HaD, 0, 3 * NS * sizeof *HaD), memset(ga, 0, 3 * sizeof *ga);
-    double N[3], dN[NS][3], S[3], G[3][3];
+    int id = s->M > 0;
+    double *A = NULL, *B = NULL, *gp = NULL, *Hap = NULL;
+    int slot[4] = {0, 0, 0, 0};
+    if (id) {
+        A = eqs->A + HP * (size_t)t, B = eqs->B + NS * NP * (size_t)t, gp = eqs->gp + NP * (size_t)t;
+        Hap = eqs->Hap + 3 * NP * (size_t)t;
+        memset(A, 0, HP * sizeof *A), memset(B, 0, NS * NP * sizeof *B), memset(gp, 0, NP * sizeof *gp);
+        memset(Hap, 0, 3 * NP * sizeof *Hap);
+        for (int a = 0; a < 4; a++) slot[a] = fr_sfs_end_slot(&s->grid, t, a);
+    }
+    double N[3], dN[NS][3], S[3], G[3][3], sec[7];
     for (int k = 0; k < s->nviews; k++) {
         const photo_texels *p = &s->pt[k];
-        if (!s->use[k] || !(p->w[t] > 0) || !texel_normal(s, D, k, t, N, dN)) continue;
+        if (!s->use[k] || !(p->w[t] > 0) || !texel_normal_at(s, D, Xb, k, t, N, dN, sec)) continue;
         fr_sfs_shade_head(&s->views[k], N, S, G);
         double I[3];
-        observed(s, p, D, t, I);
+        observed_at(s, p, D, Xb, t, I);
         double sc = obs_scale(s, p->I + 3 * (size_t)t);
         for (int c = 0; c < 3; c++) {
             double a = albedo[3 * t + c], r = (a * S[c] - I[c]) / sc, w = p->w[t] * fr_sfs_tukey_w(r);
@@ -311,6 +380,33 @@ static double texel_normal_equations(const mv *s, const double *D, const float *
             double ja = S[c] / sc;
             Haa[c] += w * ja * ja, ga[c] += w * ja * r;
             for (int q = 0; q < NS; q++) HaD[NS * c + q] += w * ja * j[q];
+            if (!id) continue;
+            /* by the stencil points' positions: N = c / |c|, c = s (ex x ey) + K, ex = P(right) - P(left),
+             * ey = P(down) - P(up); d r / d c = a / sc (G - (G.N) N) / |c| =: gn, so d r / d P(right) =
+             * s ey x gn (minus that at the left), d r / d P(down) = s gn x ex (minus that at the top);
+             * and the stereo term at the centre */
+            double jp[NP], gn[3], f = a / sc * s->sign[t] / sec[6];
+            double gN = G[c][0] * N[0] + G[c][1] * N[1] + G[c][2] * N[2];
+            for (int q = 0; q < 3; q++) gn[q] = f * (G[c][q] - gN * N[q]);
+            double vx[3], vy[3];
+            fr_sfs_cross(sec + 3, gn, vx);
+            fr_sfs_cross(gn, sec, vy);
+            memset(jp, 0, sizeof jp);
+            for (int q = 0; q < 3; q++) {
+                jp[3 * slot[0] + q] -= vx[q], jp[3 * slot[1] + q] += vx[q];
+                jp[3 * slot[2] + q] -= vy[q], jp[3 * slot[3] + q] += vy[q];
+                if (p->gP) jp[q] -= p->gP[9 * (size_t)t + 3 * c + q] / sc;
+            }
+            for (int q = 0, h = 0; q < NP; q++) {
+                double wq = w * jp[q];
+                for (int b = q; b < NP; b++, h++) A[h] += wq * jp[b];
+                gp[q] += wq * r;
+                Hap[NP * c + q] += wq * ja;
+            }
+            for (int q = 0; q < NS; q++) {
+                double wq = w * j[q];
+                for (int b = 0; b < NP; b++) B[NP * q + b] += wq * jp[b];
+            }
         }
     }
     if (!s->o->joint_albedo)
@@ -322,6 +418,13 @@ static double texel_normal_equations(const mv *s, const double *D, const float *
         for (int q = 0, k = 0; q < NS; q++)
             for (int b = q; b < NS; b++, k++) H[k] -= h[q] * h[b] * inv;
         for (int q = 0; q < NS; q++) g[q] -= h[q] * ga[c] * inv;
+        if (!id) continue;
+        const double *hp = Hap + NP * c;
+        for (int q = 0, k = 0; q < NP; q++)
+            for (int b = q; b < NP; b++, k++) A[k] -= hp[q] * hp[b] * inv;
+        for (int q = 0; q < NS; q++)
+            for (int b = 0; b < NP; b++) B[NP * q + b] -= h[q] * hp[b] * inv;
+        for (int q = 0; q < NP; q++) gp[q] -= hp[q] * ga[c] * inv;
     }
     return e;
 }
@@ -330,11 +433,51 @@ static double texel_normal_equations(const mv *s, const double *D, const float *
  * step's equations are the next step's): each texel's terms in parallel (3 per texel: data +
  * anchor, the two curvatures, 0 where a texel has none), summed in texel order (the same value
  * whatever the thread count). */
-static double evaluate(const mv *s, const double *D, const float *albedo, const texel_eqs *q) {
-    double *et = s->e_texel;
+/* The rigid unknowns' displacements at a point X0 of the rig's neutral: turns about the head
+ * frame's axes (RIGID_R radians a unit), then shifts along them (RIGID_T metres a unit). */
+#define RIGID_R 0.01
+#define RIGID_T 0.001
+static void rigid_modes(const double X0[3], double r[3][3]) {
+    for (int k = 0; k < 3; k++) {
+        double e[3] = {k == 0, k == 1, k == 2};
+        fr_sfs_cross(e, X0, r[k]);
+        for (int q = 0; q < 3; q++) r[k][q] *= RIGID_R;
+    }
+}
+
+/* U_t (b - beta_s) per texel into out (3 per texel; b NULL: beta_s). */
+static void ident_offsets(const mv *s, const double *b, double *out) {
+    int M = s->M;
+#pragma omp parallel for schedule(static) num_threads(s->threads)
+    for (int t = 0; t < s->nt; t++) {
+        const double *u = s->U + 3 * (size_t)M * t;
+        for (int q = 0; q < 3; q++) {
+            double x = 0;
+            for (int m = 0; m < M && b; m++) x += u[M * q + m] * (b[m] - s->beta_s[m]);
+            out[3 * (size_t)t + q] = x;
+        }
+    }
+}
+
+/* The identity prior's energy at change b. */
+static double ident_prior(const mv *s, const double *b) {
+    double e = 0;
+    for (int m = 0; m < s->Mid; m++) {
+        double x = (s->o->id_start ? s->o->id_start[m] : 0) + b[m];
+        e += x * x;
+    }
+    return s->o->id_prior * e;
+}
+
+static double evaluate_at(const mv *s, const double *D, const double *beta, const float *albedo, const texel_eqs *q) {
+    double *et = s->e_texel, *Xb = NULL;
+    if (s->M > 0 && beta) {
+        ident_offsets(s, beta, s->Xb);
+        Xb = s->Xb;
+    }
 #pragma omp parallel for schedule(dynamic, 64) num_threads(s->threads)
     for (int t = 0; t < s->nt; t++) {
-        et[3 * (size_t)t] = texel_normal_equations(s, D, albedo, t, q) + s->o->w_anchor * D[t] * D[t];
+        et[3 * (size_t)t] = texel_normal_equations(s, D, Xb, albedo, t, q) + s->o->w_anchor * D[t] * D[t];
         int nb[3];
         for (int dir = 0; dir < 2; dir++) {
             et[3 * (size_t)t + 1 + dir] = 0;
@@ -347,7 +490,12 @@ static double evaluate(const mv *s, const double *D, const float *albedo, const 
     double e = 0;
     for (size_t k = 0; k < 3 * (size_t)s->nt; k++)
         e += et[k];
+    if (s->M > 0 && beta) e += ident_prior(s, beta);
     return e;
+}
+
+static double evaluate(const mv *s, const double *D, const float *albedo, const texel_eqs *q) {
+    return evaluate_at(s, D, s->M > 0 ? s->beta : NULL, albedo, q);
 }
 
 /* The albedo step that goes with the displacement step (back-substitution). */
@@ -363,6 +511,12 @@ static void albedo_step(mv *s, const double *dD) {
                 double x = q->ga[3 * (size_t)t + c];
                 for (int a = 0; a < FR_SFS_STENCIL; a++)
                     if (u[a] >= 0) x += h[a] * dD[u[a]];
+                if (s->M > 0) { /* and the identity's step at the stencil's points */
+                    const double *hp = q->Hap + 3 * NP * (size_t)t + NP * c;
+                    for (int a = 0; a < FR_SFS_STENCIL; a++)
+                        if (u[a] >= 0)
+                            for (int k = 0; k < 3; k++) x += hp[3 * a + k] * s->dXb[3 * (size_t)u[a] + k];
+                }
                 v -= x / Haa;
             }
             s->albedo_try[3 * t + c] = (float)(v > 0 ? v : 0);
@@ -405,6 +559,195 @@ static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr) {
             }
         }
     }
+    return st;
+}
+
+/* The identity's equations at the current point from the texels' (eq[cur]): C = H_Db (nt x M),
+ * Hbb = sum_t U^T A U over each texel's stencil points, gb, with the prior's terms (energy
+ * id_prior |start + beta|^2). Texel order, one thread: the same sums whatever the thread count. */
+static void assemble_ident(mv *s) {
+    enum { NS = FR_SFS_STENCIL, CHUNK = 256 };
+    const texel_eqs *eq = &s->eq[s->cur];
+    int M = s->M;
+    size_t nt = (size_t)s->nt;
+    double *Cr = s->Y; /* C row by row first (each texel's M together), then into C's columns */
+    memset(Cr, 0, sizeof(double) * nt * (size_t)M);
+    memset(s->Hbb, 0, sizeof(double) * (size_t)M * M), memset(s->gb, 0, sizeof(double) * (size_t)M);
+    /* a chunk of texels' stencil rows of U (15 per texel, 0 where a neighbour is missing) and A U */
+    double *Ur = malloc(sizeof(double) * NP * CHUNK * (size_t)M), *Wr = malloc(sizeof(double) * NP * CHUNK * (size_t)M);
+    if (!Ur || !Wr) { /* no identity step this time */
+        free(Ur), free(Wr);
+        for (int m = 0; m < M; m++) s->Hbb[(size_t)M * m + m] = 1e30;
+        return;
+    }
+    int rows = 0; /* texels in the chunk */
+    for (int t = 0; t <= s->nt; t++) {
+        if (rows == CHUNK || (t == s->nt && rows)) { /* Hbb += U^T (A U) over the chunk */
+            cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, M, M, NP * rows, 1.0, Ur, M, Wr, M, 1.0, s->Hbb, M);
+            rows = 0;
+        }
+        if (t == s->nt) break;
+        int u[NS], e[4];
+        fr_sfs_stencil(&s->grid, t, u);
+        if (!fr_sfs_secant_ends(&s->grid, t, e)) continue;
+        const double *A = eq->A + HP * (size_t)t, *B = eq->B + NS * NP * (size_t)t, *gp = eq->gp + NP * (size_t)t;
+        double *ur = Ur + (size_t)NP * M * rows, *wr = Wr + (size_t)NP * M * rows, Af[NP * NP];
+        for (int q = 0, h = 0; q < NP; q++)
+            for (int b = q; b < NP; b++, h++) Af[NP * q + b] = Af[NP * b + q] = A[h];
+        for (int a = 0; a < NS; a++)
+            for (int q = 0; q < 3; q++) {
+                double *x = ur + (size_t)M * (3 * a + q);
+                if (u[a] < 0) memset(x, 0, sizeof(double) * (size_t)M);
+                else memcpy(x, s->U + 3 * (size_t)M * u[a] + (size_t)M * q, sizeof(double) * (size_t)M);
+            }
+        for (int r = 0; r < NP; r++) {
+            double *w = wr + (size_t)M * r;
+            memset(w, 0, sizeof(double) * (size_t)M);
+            for (int r2 = 0; r2 < NP; r2++) {
+                double a = Af[NP * r + r2];
+                if (a == 0 || u[r2 / 3] < 0) continue;
+                const double *x = ur + (size_t)M * r2;
+                for (int m = 0; m < M; m++) w[m] += a * x[m];
+            }
+            const double *x = ur + (size_t)M * r;
+            for (int m = 0; m < M; m++) s->gb[m] += x[m] * gp[r];
+        }
+        rows++;
+        /* C's rows at the stencil: B (5 x 15) U */
+        for (int a = 0; a < NS; a++) {
+            if (u[a] < 0) continue;
+            const double *br = B + NP * a;
+            double *cr = Cr + (size_t)M * u[a];
+            for (int r = 0; r < NP; r++) {
+                if (br[r] == 0 || u[r / 3] < 0) continue;
+                const double *x = ur + (size_t)M * r;
+                for (int m = 0; m < M; m++) cr[m] += br[r] * x[m];
+            }
+        }
+    }
+    for (size_t t = 0; t < nt; t++)
+        for (int m = 0; m < M; m++) s->C[nt * m + t] = Cr[(size_t)M * t + m];
+    for (int m = 0; m < M; m++)
+        for (int m2 = 0; m2 < m; m2++) {
+            double x = 0.5 * (s->Hbb[(size_t)M * m + m2] + s->Hbb[(size_t)M * m2 + m]);
+            s->Hbb[(size_t)M * m + m2] = s->Hbb[(size_t)M * m2 + m] = x;
+        }
+    for (int m = 0; m < s->Mid; m++) {
+        s->Hbb[(size_t)M * m + m] += 2 * s->o->id_prior;
+        s->gb[m] += 2 * s->o->id_prior * ((s->o->id_start ? s->o->id_start[m] : 0) + s->beta[m]);
+    }
+    free(Ur), free(Wr);
+}
+
+/* Dense Cholesky of the n x n A (row-major, overwritten) and the solution of A x = b in b; 0 when
+ * A is not positive definite. */
+static int dense_solve(int n, double *A, double *b) {
+    for (int i = 0; i < n; i++) {
+        for (int j = 0; j <= i; j++) {
+            double x = A[(size_t)n * i + j];
+            for (int q = 0; q < j; q++) x -= A[(size_t)n * i + q] * A[(size_t)n * j + q];
+            if (i == j) {
+                if (!(x > 0)) return 0;
+                A[(size_t)n * i + i] = sqrt(x);
+            } else A[(size_t)n * i + j] = x / A[(size_t)n * j + j];
+        }
+    }
+    for (int i = 0; i < n; i++) {
+        for (int q = 0; q < i; q++) b[i] -= A[(size_t)n * i + q] * b[q];
+        b[i] /= A[(size_t)n * i + i];
+    }
+    for (int i = n - 1; i >= 0; i--) {
+        for (int q = i + 1; q < n; q++) b[i] -= A[(size_t)n * q + i] * b[q];
+        b[i] /= A[(size_t)n * i + i];
+    }
+    return 1;
+}
+
+/* The joint step with the identity: the damped D block K (factored in ch) solved for C's columns
+ * and the rhs, the identity's Schur complement Hbb + damping - C^T K^-1 C solved for dbeta, and
+ * the displacement's step back-substituted (into s->delta). */
+static frig_status solve_ident(frig_ctx *ctx, mv *s, fr_cholesky *ch, double mu) {
+    int M = s->M;
+    size_t nt = (size_t)s->nt;
+    memcpy(s->C + nt * (size_t)M, s->rhs, sizeof(double) * nt);
+    frig_status st = fr_cholesky_solve(ctx, ch, M + 1, s->C, s->Y);
+    if (st) return st;
+    const double *y = s->Y + nt * (size_t)M;
+    double lam = mu / (s->dmean > 0 ? s->dmean : 1);
+    for (int m = 0; m < M; m++) {
+        const double *cm = s->C + nt * (size_t)m;
+        double r = -s->gb[m];
+        for (size_t t = 0; t < nt; t++) r -= cm[t] * y[t];
+        s->dbeta[m] = r;
+        for (int m2 = m; m2 < M; m2++) {
+            const double *ym = s->Y + nt * (size_t)m2;
+            double x = 0;
+            for (size_t t = 0; t < nt; t++) x += cm[t] * ym[t];
+            s->S[(size_t)M * m + m2] = s->S[(size_t)M * m2 + m] = s->Hbb[(size_t)M * m + m2] - x;
+        }
+        s->S[(size_t)M * m + m] += lam * s->Hbb[(size_t)M * m + m];
+    }
+    if (!dense_solve(M, s->S, s->dbeta)) memset(s->dbeta, 0, sizeof(double) * (size_t)M);
+    for (size_t t = 0; t < nt; t++) {
+        double d = y[t];
+        for (int m = 0; m < M; m++) d -= s->Y[nt * (size_t)m + t] * s->dbeta[m];
+        s->delta[t] = d;
+    }
+    return FRIG_OK;
+}
+
+/* The identity change baked into the rig: the mesh's per-vertex change from beta, every used
+ * photo's texel geometry and normal constants again, each view drawn again (with the
+ * displacement) for the visibility of the next sampling; beta_s = beta. */
+static frig_status ident_bake(frig_ctx *ctx, mv *s) {
+    const fr_sfs_mesh *m = s->m;
+    size_t n3 = 3 * (size_t)m->nv;
+    for (size_t i = 0; i < n3; i++) {
+        double x = 0;
+        for (int k = 0; k < s->Mid; k++) x += (double)s->o->id_modes[n3 * (size_t)k + i] * s->beta[k];
+        if (s->M > s->Mid) {
+            double X0[3], r[3][3];
+            memcpy(X0, (double[3]){m->rig->neutral[i - i % 3], m->rig->neutral[i - i % 3 + 1], m->rig->neutral[i - i % 3 + 2]},
+                   sizeof X0);
+            rigid_modes(X0, r);
+            for (int k = 0; k < 3; k++) x += r[k][i % 3] * s->beta[s->Mid + k];
+            x += RIGID_T * s->beta[s->Mid + 3 + i % 3];
+        }
+        m->ident[i] = (float)x;
+    }
+    memcpy(s->beta_s, s->beta, sizeof(double) * (size_t)s->M);
+    int T = s->uv->size;
+    float *disp = calloc((size_t)T * T, sizeof(float)), *vd = malloc(sizeof(float) * ((size_t)m->nv + 1));
+    frig_status st = !disp || !vd ? fr_nomem(ctx, "the identity change") : FRIG_OK;
+    for (int t = 0; t < s->nt && !st; t++) disp[s->uv->texel[t]] = (float)(s->D[t] * MM);
+    if (!st) st = fr_sfs_vertex_displacement(ctx, m, disp, T, vd);
+    int failed = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(s->threads)
+    for (int k = 0; k < s->nviews; k++) {
+        if (!s->use[k] || st) continue;
+        frig_ctx child;
+        fr_ctx_init_child(&child, ctx);
+        double R[9], t[3];
+        memcpy(R, s->views[k].R, sizeof R), memcpy(t, s->views[k].t, sizeof t);
+        if (photo_geometry(&child, s, k) || fr_sfs_view_render(&child, m, &s->views[k], R, t, vd)) failed = 1;
+        else photo_base(s, k);
+    }
+    if (failed && !st) st = fr_nomem(ctx, "the identity change");
+    free(disp), free(vd);
+    double rms = 0, b2 = 0;
+    int nf = 0;
+    for (int v = 0; v < m->nv; v++)
+        if (m->face_vertex[v]) {
+            for (int q = 0; q < 3; q++) rms += (double)m->ident[3 * (size_t)v + q] * m->ident[3 * (size_t)v + q];
+            nf++;
+        }
+    for (int k = 0; k < s->Mid; k++) b2 += s->beta[k] * s->beta[k];
+    fr_log(ctx, FRIG_LOG_DEBUG, "sfs: identity change |dbeta| %.3f, RMS %.3f mm over the face's vertices, prior %.1f",
+           sqrt(b2), 1e3 * sqrt(rms / (nf ? nf : 1)), ident_prior(s, s->beta));
+    if (s->M > s->Mid)
+        fr_log(ctx, FRIG_LOG_DEBUG, "sfs: rigid change: turn %.3f %.3f %.3f deg, shift %.3f %.3f %.3f mm",
+               s->beta[s->Mid] * RIGID_R * 57.29578, s->beta[s->Mid + 1] * RIGID_R * 57.29578,
+               s->beta[s->Mid + 2] * RIGID_R * 57.29578, s->beta[s->Mid + 3], s->beta[s->Mid + 4], s->beta[s->Mid + 5]);
     return st;
 }
 
@@ -599,10 +942,13 @@ static int cmp_float(const void *x, const void *y) {
 
 static void mv_free(mv *s) {
     for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].X), free(s->pt[k].n), free(s->pt[k].I), free(s->pt[k].w), free(s->pt[k].dI);
-    for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].K);
+    for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].K), free(s->pt[k].gP);
     free(s->pt), free(s->left), free(s->right), free(s->up), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
     for (int b = 0; b < 2; b++)
-        free(s->eq[b].H), free(s->eq[b].g), free(s->eq[b].Haa), free(s->eq[b].HaD), free(s->eq[b].ga);
+        free(s->eq[b].H), free(s->eq[b].g), free(s->eq[b].Haa), free(s->eq[b].HaD), free(s->eq[b].ga), free(s->eq[b].A),
+            free(s->eq[b].B), free(s->eq[b].gp), free(s->eq[b].Hap);
+    free(s->U), free(s->beta), free(s->beta_s), free(s->beta_try), free(s->dbeta), free(s->Xb), free(s->dXb), free(s->C), free(s->Y);
+    free(s->Hbb), free(s->gb), free(s->S);
     free(s->albedo), free(s->albedo_try), free(s->damped), free(s->e_texel);
     free(s->eshape), free(s->eoffset), free(s->elist), free(s->edX), free(s->w0);
 }
@@ -799,6 +1145,46 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         q->ga = malloc(sizeof(double) * 3 * nt);
         eq_ok &= q->H && q->g && q->Haa && q->HaD && q->ga;
     }
+    if (o->id_count > 0 && o->id_modes && m->ident) {
+        int M = s.M = o->id_count + (o->id_rigid ? 6 : 0);
+        s.Mid = o->id_count;
+        for (int b = 0; b < 2; b++) {
+            texel_eqs *q = &s.eq[b];
+            q->A = malloc(sizeof(double) * HP * nt), q->B = malloc(sizeof(double) * FR_SFS_STENCIL * NP * nt);
+            q->gp = malloc(sizeof(double) * NP * nt), q->Hap = malloc(sizeof(double) * 3 * NP * nt);
+            eq_ok &= q->A && q->B && q->gp && q->Hap;
+        }
+        s.U = malloc(sizeof(double) * 3 * (size_t)M * nt);
+        s.beta = calloc((size_t)M, sizeof(double)), s.beta_s = calloc((size_t)M, sizeof(double));
+        s.beta_try = calloc((size_t)M, sizeof(double)), s.dbeta = calloc((size_t)M, sizeof(double));
+        s.Xb = calloc(3 * nt, sizeof(double)), s.dXb = calloc(3 * nt, sizeof(double));
+        s.C = malloc(sizeof(double) * nt * (size_t)(M + 1)), s.Y = malloc(sizeof(double) * nt * (size_t)(M + 1));
+        s.Hbb = malloc(sizeof(double) * (size_t)M * M), s.gb = malloc(sizeof(double) * (size_t)M);
+        s.S = malloc(sizeof(double) * (size_t)M * M);
+        eq_ok &= s.U && s.beta && s.beta_s && s.beta_try && s.dbeta && s.Xb && s.dXb && s.C && s.Y && s.Hbb && s.gb && s.S;
+        /* the modes at the texels, interpolated as the rig's points are; the rig starts with no change */
+        size_t n3 = 3 * (size_t)m->nv;
+        memset(m->ident, 0, sizeof(float) * n3);
+        for (int t = 0; t < s.nt && eq_ok; t++) {
+            const int32_t *tri = m->tris + 3 * (size_t)uv->tri[t];
+            const float *b = uv->bary + 3 * (size_t)t;
+            for (int k = 0; k < s.Mid; k++) {
+                double x[3];
+                interp(o->id_modes + n3 * (size_t)k, tri, b, x);
+                for (int q = 0; q < 3; q++) s.U[3 * (size_t)M * t + (size_t)M * q + k] = x[q];
+            }
+            if (M > s.Mid) { /* the rigid unknowns at the texel's neutral point */
+                double X0[3], r[3][3];
+                interp(m->rig->neutral, tri, b, X0);
+                rigid_modes(X0, r);
+                for (int k = 0; k < 3; k++)
+                    for (int q = 0; q < 3; q++) {
+                        s.U[3 * (size_t)M * t + (size_t)M * q + s.Mid + k] = r[k][q];
+                        s.U[3 * (size_t)M * t + (size_t)M * q + s.Mid + 3 + k] = k == q ? RIGID_T : 0;
+                    }
+            }
+        }
+    }
     s.damped = malloc(sizeof(size_t) * nt), s.e_texel = malloc(sizeof(double) * 3 * nt), s.threads = threads;
     frig_status st = !s.pt || !s.left || !s.right || !s.up || !s.down || !s.sign || !s.D || !s.D_s || !s.D_try || !s.delta || !s.rhs ||
                              !eq_ok || !s.albedo || !s.albedo_try || !s.damped || !s.e_texel
@@ -810,7 +1196,8 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         p->X = malloc(sizeof(float) * 3 * nt), p->n = malloc(sizeof(float) * 3 * nt);
         p->I = malloc(sizeof(float) * 3 * nt), p->w = calloc(nt, sizeof(float));
         p->dI = calloc(3 * nt, sizeof(float)), p->K = calloc(3 * nt, sizeof(float));
-        if (!p->X || !p->n || !p->I || !p->w || !p->dI || !p->K) st = fr_nomem(ctx, "the multi-view solve");
+        if (s.M > 0) p->gP = calloc(9 * nt, sizeof(float));
+        if (!p->X || !p->n || !p->I || !p->w || !p->dI || !p->K || (s.M > 0 && !p->gP)) st = fr_nomem(ctx, "the multi-view solve");
     }
     for (int t = 0; t < s.nt && !st; t++) {
         int x = uv->texel[t] % T, y = uv->texel[t] / T;
@@ -850,11 +1237,15 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         s.cur = 0;
         c1 = fr_cpu_seconds(), cpu[CPU_SAMPLING] += c1 - c0, c0 = c1;
         double e = evaluate(&s, s.D, s.albedo, &s.eq[0]), mu = -1;
+        fr_log(ctx, FRIG_LOG_DEBUG, "sfs: shared shape round %d starts at energy %.6g", outer + 1, e);
         int assembled = 0; /* tr and rhs hold the equations at the current D (albedo, lighting) */
         for (int it = 0; it < o->iterations && !st; it++) {
             for (int tries = 0; tries < 5 && !st; tries++) {
                 if (!assembled) {
                     st = assemble(ctx, &s, 0.0, &tr);
+                    double ca = fr_cpu_seconds();
+                    if (s.M > 0 && !st) assemble_ident(&s);
+                    s.cpu_id[1] += fr_cpu_seconds() - ca;
                     assembled = 1;
                 }
                 if (mu < 0 && !st) {
@@ -862,20 +1253,38 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
                     for (size_t q = 0; q < tr.count; q++)
                         if (tr.i[q] == tr.j[q]) trace += tr.x[q];
                     mu = 1e-3 * trace / s.nt;
+                    if (!(s.dmean > 0)) s.dmean = trace / s.nt;
                 }
                 if (!st) set_damping(&s, mu, &tr);
+                double cs = fr_cpu_seconds();
                 if (!st) st = ch ? fr_cholesky_refactor(ctx, ch, &tr) : fr_cholesky_create(ctx, &tr, &ch);
-                if (!st) st = fr_cholesky_solve(ctx, ch, 1, s.rhs, s.delta);
+                if (!st) st = s.M > 0 ? solve_ident(ctx, &s, ch, mu) : fr_cholesky_solve(ctx, ch, 1, s.rhs, s.delta);
+                s.cpu_id[2] += fr_cpu_seconds() - cs;
                 if (st) break;
                 for (int t = 0; t < s.nt; t++) {
                     double d = s.D[t] + s.delta[t];
                     s.D_try[t] = d > o->max_mm ? o->max_mm : d < -o->max_mm ? -o->max_mm : d;
                 }
+                if (s.M > 0) {
+                    for (int k = 0; k < s.M; k++) s.beta_try[k] = s.beta[k] + s.dbeta[k];
+                    for (int t = 0; t < s.nt; t++) {
+                        const double *u = s.U + 3 * (size_t)s.M * t;
+                        for (int q = 0; q < 3; q++) {
+                            double x = 0;
+                            for (int k = 0; k < s.M; k++) x += u[s.M * q + k] * s.dbeta[k];
+                            s.dXb[3 * (size_t)t + q] = x;
+                        }
+                    }
+                }
                 if (o->joint_albedo) albedo_step(&s, s.delta);
-                double e2 = evaluate(&s, s.D_try, o->joint_albedo ? s.albedo_try : s.albedo, &s.eq[1 - s.cur]);
+                double ce = fr_cpu_seconds();
+                double e2 = evaluate_at(&s, s.D_try, s.M > 0 ? s.beta_try : NULL, o->joint_albedo ? s.albedo_try : s.albedo,
+                                        &s.eq[1 - s.cur]);
+                s.cpu_id[0] += fr_cpu_seconds() - ce;
                 if (e2 < e) {
                     s.cur = 1 - s.cur; /* the tried step's equations are those at the new D */
                     memcpy(s.D, s.D_try, sizeof(double) * (size_t)s.nt);
+                    if (s.M > 0) memcpy(s.beta, s.beta_try, sizeof(double) * (size_t)s.M);
                     if (o->joint_albedo) memcpy(s.albedo, s.albedo_try, sizeof(float) * 3 * (size_t)s.nt);
                     assembled = 0;
                     e = e2;
@@ -889,6 +1298,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         for (int t = 0; t < s.nt; t++) rms += s.D[t] * s.D[t];
         fr_log(ctx, FRIG_LOG_DEBUG, "sfs: shared shape round %d: energy %.6g, displacement RMS %.3f mm", outer + 1, e,
                sqrt(rms / (s.nt ? s.nt : 1)));
+        double cb = fr_cpu_seconds();
+        if (s.M > 0 && !st) st = ident_bake(ctx, &s);
+        s.cpu_id[3] += fr_cpu_seconds() - cb;
         c1 = fr_cpu_seconds(), cpu[CPU_SHAPE] += c1 - c0, c0 = c1;
         update_albedo(&s, threads);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
@@ -911,6 +1323,8 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     fr_log(ctx, FRIG_LOG_DEBUG, "sfs: shared shape (CPU s): registration %.2f, sampling and albedo %.2f, shape %.2f, "
            "albedo and lighting %.2f, expressions %.2f", cpu[CPU_REGISTRATION], cpu[CPU_SAMPLING], cpu[CPU_SHAPE],
            cpu[CPU_LIGHTING], cpu[CPU_EXPRESSIONS]);
+    fr_log(ctx, FRIG_LOG_DEBUG, "sfs: shared shape (CPU s): tried steps' evaluations %.2f, identity assembly %.2f, "
+           "factor and solves %.2f, identity bakes %.2f", s.cpu_id[0], s.cpu_id[1], s.cpu_id[2], s.cpu_id[3]);
     if (!st) {
         memset(disp, 0, sizeof(float) * (size_t)T * T);
         for (int t = 0; t < s.nt; t++) {
@@ -918,6 +1332,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
             disp[q] = (float)(s.D[t] * MM);
             for (int c = 0; c < 3; c++) ps->albedo[3 * q + c] = s.albedo[3 * t + c];
         }
+        if (s.M > 0 && o->id_change) memcpy(o->id_change, s.beta, sizeof(double) * (size_t)s.Mid);
     }
     fr_cholesky_free(ch);
     fr_triplets_free(&tr);

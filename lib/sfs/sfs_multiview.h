@@ -25,6 +25,16 @@ typedef struct fr_sfs_multiview_options {
     int expression_steps;     /* each photo's expression weights refined after each round (sfs_expression.c; 0 off) */
     double expression_prior;  /* held to the weights the views start with (the fit's) */
     double expression_sparse; /* L1 on the weights */
+    /* the model's identity modes solved with the displacement (id_count 0: off): id_count modes of 3 nv
+     * floats (the mesh's vertices), the change c of the identity weights held by id_prior |id_start + c|^2
+     * (id_start NULL: zeros); the change is written to the mesh's ident (which must be allocated) and,
+     * when id_change is given, its weights there (id_count) */
+    const float *id_modes;
+    int id_count;
+    double id_prior;
+    const double *id_start;
+    double *id_change;
+    int id_rigid;     /* 1: with the identity, a turn and shift of the whole surface too (no prior; a common pose error's) */
 } fr_sfs_multiview_options;
 
 void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o);

@@ -40,7 +40,7 @@ void fr_sfs_run_free(fr_sfs_run *r) {
     }
     free(r->views), free(r->photo), free(r->ok), free(r->reason), free(r->status);
     fr_sfs_albedo_free(&r->ps);
-    free(r->vdisp);
+    free(r->vdisp), free(r->ident);
     fr_sfs_uv_free(&r->uv);
     fr_sfs_mesh_free(&r->mesh);
     memset(r, 0, sizeof *r);
@@ -253,6 +253,15 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
         mo.expression_steps = st->expression_steps;
         mo.expression_prior = st->expression_prior;
         mo.expression_sparse = st->expression_sparse;
+        if (st->identity_count > 0 && st->identity_modes && !s) {
+            /* the model's identity modes with the displacement: the change lives in the mesh (every view,
+             * the reference and the depth drawn with it) and its weights in r->ident */
+            r->mesh.ident = calloc(3 * (size_t)r->mesh.nv + 1, sizeof(float));
+            r->ident = calloc((size_t)st->identity_count + 1, sizeof(double));
+            if (!r->mesh.ident || !r->ident) s = fr_nomem(ctx, "the identity change");
+            mo.id_modes = st->identity_modes, mo.id_count = st->identity_count, mo.id_prior = st->identity_prior;
+            mo.id_start = st->identity_start, mo.id_change = r->ident, mo.id_rigid = st->identity_rigid;
+        }
         uint8_t *use = malloc((size_t)r->n + 1);
         if (!use && !s) s = fr_nomem(ctx, "the multi-view solve");
         for (int k = 0; use && k < r->n; k++) use[k] = r->ok[k] && (!st->shape_use || st->shape_use[r->photo[k]]);

@@ -20,6 +20,7 @@ typedef struct fr_sfs_run {
     frig_status *status; /* the photo's own failure (FRIG_OK for a judged failure) */
     double mean_albedo[3];
     float *vdisp;       /* per rig vertex: the multi-view displacement along its normal, metres (NULL: none) */
+    double *ident;      /* with st.identity_count modes: the identity weights' change (mesh.ident its shape), else NULL */
 } fr_sfs_run;
 
 frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photoset *set, const fr_sfs_settings *st,

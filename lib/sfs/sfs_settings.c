@@ -1,6 +1,8 @@
 /* The sfs.* parameters of a context as the stage's settings (docs/sfs.md). */
 #include "core/context.h"
+#include "model/model.h"
 #include "sfs/sfs.h"
+#include "workspace/photoset.h"
 
 void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->face_px = fr_param(ctx, FRIG_PARAM_SFS_FACE_PX);
@@ -35,6 +37,19 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->expression_sparse = fr_param(ctx, FRIG_PARAM_SFS_EXPRESSION_SPARSE);
     s->cloud_region = fr_param_int(ctx, FRIG_PARAM_SFS_CLOUD_REGION);
     s->shape_use = NULL;
+    s->identity_modes = NULL, s->identity_count = 0, s->identity_start = NULL;
+    s->identity_prior = fr_param(ctx, FRIG_PARAM_SFS_IDENTITY_PRIOR);
+    s->identity_rigid = 0;
+}
+
+void fr_sfs_settings_identity(const frig_ctx *ctx, fr_sfs_settings *s, const frig_model *model, const frig_photoset *set) {
+    int n = fr_param_int(ctx, FRIG_PARAM_SFS_IDENTITY_MODES);
+    if (!model || n <= 0) return;
+    if (n > model->identity_count) n = model->identity_count;
+    if (set->n_identity > 0 && n > set->n_identity) n = set->n_identity;
+    s->identity_modes = model->identity;
+    s->identity_count = n;
+    s->identity_start = set->n_identity > 0 ? set->identity : NULL;
 }
 
 void fr_sfs_light_shared_solve(fr_sfs_settings *s) {
@@ -45,4 +60,6 @@ void fr_sfs_light_shared_solve(fr_sfs_settings *s) {
     if (s->rounds > 3) s->rounds = 3;
     if (s->shape_iterations > 4) s->shape_iterations = 4;
     s->shape_sigma = 0.03;
+    s->pose_steps = 0;
+    s->identity_count = 0; /* without the multi-view term the identity takes the shading's errors (docs/sfs.md) */
 }

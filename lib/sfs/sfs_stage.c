@@ -164,8 +164,17 @@ frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
 
 frig_status frig_sfs(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const char *overlay_dir,
                      frig_clouds **clouds, frig_image **albedo) {
+    return frig_sfs_with_model(ctx, NULL, rig, set, overlay_dir, clouds, albedo);
+}
+
+frig_status frig_sfs_with_model(frig_ctx *ctx, const frig_model *model, const frig_rig *rig, frig_photoset *set,
+                                const char *overlay_dir, frig_clouds **clouds, frig_image **albedo) {
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
+    if (model && rig && frig_model_vertex_count(model) != frig_rig_vertex_count(rig))
+        return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_sfs_with_model: the model has %d vertices, the rig %d",
+                        frig_model_vertex_count(model), frig_rig_vertex_count(rig));
+    if (model && set) fr_sfs_settings_identity(ctx, &st, model, set);
     return fr_sfs_stage(ctx, rig, set, &st, overlay_dir, clouds, albedo);
 }
 
