@@ -83,8 +83,9 @@ int main(int argc, char **argv) {
         fail(ctx, "rig");
         goto done;
     }
-    /* sfs: a point cloud per photo from its shading, the subject's albedo (section 5.1) */
-    if (frig_sfs(ctx, rig, set, NULL, &clouds, &albedo)) {
+    /* sfs: a point cloud per photo from its shading, the subject's albedo (section 5.1); with the
+     * model its identity modes are solved with the shape all photos share (sfs.identity_modes) */
+    if (frig_sfs_with_model(ctx, model, rig, set, NULL, &clouds, &albedo)) {
         fail(ctx, "sfs");
         goto done;
     }
