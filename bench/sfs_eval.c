@@ -31,10 +31,7 @@
  * fix), by height band and by facing;
  * --identity MODEL solves the first --identity-modes N (default 40) identity modes of MODEL with the
  * shared displacement, their weights held by --identity-prior W (default 1) times |fit's + change|^2;
- * --identity-rigid adds a turn and shift of the whole surface (a common pose error's) to the unknowns;
  * the neutral's measures are then of the rig with the identity change and the displacement;
- * --truth-focal the truth's focal length with the fit's pose (its translation scaled to keep the face's
- * place and size);
  * --write-fits saves the workspace's report with the truth's poses (--truth-pose) and weights
  * (--truth-weights) in place of the fit's and runs nothing else (then frig sfs on it).
  * Usage: sfs_eval SUBJECT_DIR WORKSPACE [--set NAME=VALUE]... [--threads T] [--truth-pose]
@@ -156,22 +153,6 @@ static void set_truth_fits(const frig_rig *truth_rig, frig_photoset *set, int po
     }
 }
 
-/* --truth-focal: each photo's focal length made the truth's, its translation scaled with it (the
- * head's origin projects where it did, the face keeps its size in the picture). */
-static void set_truth_focal(const frig_rig *truth_rig, frig_photoset *set) {
-    for (size_t i = 0; i < set->count; i++) {
-        fr_photo *p = &set->photos[i];
-        bench_truth tr;
-        memset(&tr, 0, sizeof tr);
-        if (p->fitted && p->fit_focal > 0 && bench_truth_load(p->path, truth_rig, &tr) && tr.has_face && tr.f > 0) {
-            double sc = tr.f / p->fit_focal;
-            for (int q = 0; q < 3; q++) p->fit_translation[q] *= sc;
-            p->fit_focal = tr.f;
-        }
-        bench_truth_free(&tr);
-    }
-}
-
 /* The rotation error of the poses R (9 per photo) against the truth's after the head-frame turn
  * common to all of them (a gauge for the shared solve): per photo into err, stats into st (mean,
  * median, p90); returns the common turn in degrees. */
@@ -246,7 +227,7 @@ int main(int argc, char **argv) {
     double w_stereo = -1, shape_sigma = -1, oracle_deg = 0, pose_noise = 0, pose_sigma = -1;
     int pose_levels = -1;
     const char *in_span_model = NULL, *dump_neutral = NULL, *dump_errors = NULL;
-    int truth_neutral = 0, write_fits = 0, id_modes = 40, truth_focal = 0, id_rigid = 0;
+    int truth_neutral = 0, write_fits = 0, id_modes = 40;
     const char *id_model = NULL;
     double id_prior = 1.0;
     for (int i = 3; i < argc; i++) {
@@ -274,8 +255,6 @@ int main(int argc, char **argv) {
         else if (!strcmp(argv[i], "--truth-rig")) truth_neutral = 2;
         else if (!strcmp(argv[i], "--write-fits")) write_fits = 1;
         else if (!strcmp(argv[i], "--identity") && i + 1 < argc) id_model = argv[++i];
-        else if (!strcmp(argv[i], "--truth-focal")) truth_focal = 1;
-        else if (!strcmp(argv[i], "--identity-rigid")) id_rigid = 1;
         else if (!strcmp(argv[i], "--identity-modes") && i + 1 < argc) id_modes = atoi(argv[++i]);
         else if (!strcmp(argv[i], "--identity-prior") && i + 1 < argc) id_prior = atof(argv[++i]);
         else {
@@ -292,7 +271,6 @@ int main(int argc, char **argv) {
     if (frig_rig_load(ctx, path, &truth_rig)) goto fail;
     if (frig_photoset_load(ctx, argv[2], &set)) goto fail;
     if (truth_pose || truth_weights) set_truth_fits(truth_rig, set, truth_pose, truth_weights, pose_noise);
-    if (truth_focal) set_truth_focal(truth_rig, set);
     if (write_fits) { /* the workspace's fits replaced (--truth-pose, --truth-weights), nothing else run */
         frig_status ws = frig_photoset_save(ctx, set, argv[2]);
         frig_photoset_free(set), frig_rig_free(rig), frig_rig_free(truth_rig), frig_ctx_free(ctx);
@@ -323,7 +301,6 @@ int main(int argc, char **argv) {
         id_start = calloc((size_t)st.identity_count + 1, sizeof(double));
         for (int k = 0; k < st.identity_count && k < set->n_identity && set->identity; k++) id_start[k] = set->identity[k];
         st.identity_start = id_start;
-        st.identity_rigid = id_rigid;
         printf("identity: %d modes, prior %g, from the fit's identity (%d weights in the workspace)\n", st.identity_count,
                id_prior, set->n_identity);
     }

@@ -56,7 +56,6 @@ typedef struct fr_sfs_settings {
     int identity_count;
     double identity_prior;
     const double *identity_start;
-    int identity_rigid; /* 1: a rigid turn and shift of the surface solved with the identity */
 } fr_sfs_settings;
 
 void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s);

@@ -76,7 +76,6 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
     o->expression_prior = 0.3;
     o->expression_sparse = 0.3;
     o->id_modes = NULL, o->id_count = 0, o->id_prior = 1.0, o->id_start = NULL, o->id_change = NULL;
-    o->id_rigid = 0;
 }
 
 /* One photo's view of the texels: the rig's texel points and normals at its expression, and
@@ -133,8 +132,7 @@ typedef struct mv {
     double *e_texel;         /* per texel: its 3 energy terms (evaluate()) */
     int threads;
     /* identity modes (o->id_count > 0) */
-    int M;              /* unknowns: the model's Mid modes, then (o->id_rigid) 6 rigid ones */
-    int Mid;
+    int M;              /* the model's modes solved for */
     double *U;          /* per texel 3 x M (row by row): the modes at the texel, metres */
     double *beta, *beta_s, *beta_try, *dbeta; /* the identity change (its weights): now, baked into the rig, tried, step */
     double *Xb;         /* 3 per texel: U (beta - beta_s) at the point evaluated (evaluate()) */
@@ -433,27 +431,15 @@ static double texel_normal_equations(const mv *s, const double *D, const double 
  * step's equations are the next step's): each texel's terms in parallel (3 per texel: data +
  * anchor, the two curvatures, 0 where a texel has none), summed in texel order (the same value
  * whatever the thread count). */
-/* The rigid unknowns' displacements at a point X0 of the rig's neutral: turns about the head
- * frame's axes (RIGID_R radians a unit), then shifts along them (RIGID_T metres a unit). */
-#define RIGID_R 0.01
-#define RIGID_T 0.001
-static void rigid_modes(const double X0[3], double r[3][3]) {
-    for (int k = 0; k < 3; k++) {
-        double e[3] = {k == 0, k == 1, k == 2};
-        fr_sfs_cross(e, X0, r[k]);
-        for (int q = 0; q < 3; q++) r[k][q] *= RIGID_R;
-    }
-}
-
-/* U_t (b - beta_s) per texel into out (3 per texel; b NULL: beta_s). */
-static void ident_offsets(const mv *s, const double *b, double *out) {
+/* U_t (b - base) per texel into out (3 per texel; base NULL: zeros). */
+static void ident_offsets(const mv *s, const double *b, const double *base, double *out) {
     int M = s->M;
 #pragma omp parallel for schedule(static) num_threads(s->threads)
     for (int t = 0; t < s->nt; t++) {
         const double *u = s->U + 3 * (size_t)M * t;
         for (int q = 0; q < 3; q++) {
             double x = 0;
-            for (int m = 0; m < M && b; m++) x += u[M * q + m] * (b[m] - s->beta_s[m]);
+            for (int m = 0; m < M; m++) x += u[M * q + m] * (base ? b[m] - base[m] : b[m]);
             out[3 * (size_t)t + q] = x;
         }
     }
@@ -462,7 +448,7 @@ static void ident_offsets(const mv *s, const double *b, double *out) {
 /* The identity prior's energy at change b. */
 static double ident_prior(const mv *s, const double *b) {
     double e = 0;
-    for (int m = 0; m < s->Mid; m++) {
+    for (int m = 0; m < s->M; m++) {
         double x = (s->o->id_start ? s->o->id_start[m] : 0) + b[m];
         e += x * x;
     }
@@ -472,7 +458,7 @@ static double ident_prior(const mv *s, const double *b) {
 static double evaluate_at(const mv *s, const double *D, const double *beta, const float *albedo, const texel_eqs *q) {
     double *et = s->e_texel, *Xb = NULL;
     if (s->M > 0 && beta) {
-        ident_offsets(s, beta, s->Xb);
+        ident_offsets(s, beta, s->beta_s, s->Xb);
         Xb = s->Xb;
     }
 #pragma omp parallel for schedule(dynamic, 64) num_threads(s->threads)
@@ -632,7 +618,7 @@ static void assemble_ident(mv *s) {
             double x = 0.5 * (s->Hbb[(size_t)M * m + m2] + s->Hbb[(size_t)M * m2 + m]);
             s->Hbb[(size_t)M * m + m2] = s->Hbb[(size_t)M * m2 + m] = x;
         }
-    for (int m = 0; m < s->Mid; m++) {
+    for (int m = 0; m < M; m++) {
         s->Hbb[(size_t)M * m + m] += 2 * s->o->id_prior;
         s->gb[m] += 2 * s->o->id_prior * ((s->o->id_start ? s->o->id_start[m] : 0) + s->beta[m]);
     }
@@ -704,15 +690,7 @@ static frig_status ident_bake(frig_ctx *ctx, mv *s) {
     size_t n3 = 3 * (size_t)m->nv;
     for (size_t i = 0; i < n3; i++) {
         double x = 0;
-        for (int k = 0; k < s->Mid; k++) x += (double)s->o->id_modes[n3 * (size_t)k + i] * s->beta[k];
-        if (s->M > s->Mid) {
-            double X0[3], r[3][3];
-            memcpy(X0, (double[3]){m->rig->neutral[i - i % 3], m->rig->neutral[i - i % 3 + 1], m->rig->neutral[i - i % 3 + 2]},
-                   sizeof X0);
-            rigid_modes(X0, r);
-            for (int k = 0; k < 3; k++) x += r[k][i % 3] * s->beta[s->Mid + k];
-            x += RIGID_T * s->beta[s->Mid + 3 + i % 3];
-        }
+        for (int k = 0; k < s->M; k++) x += (double)s->o->id_modes[n3 * (size_t)k + i] * s->beta[k];
         m->ident[i] = (float)x;
     }
     memcpy(s->beta_s, s->beta, sizeof(double) * (size_t)s->M);
@@ -741,13 +719,9 @@ static frig_status ident_bake(frig_ctx *ctx, mv *s) {
             for (int q = 0; q < 3; q++) rms += (double)m->ident[3 * (size_t)v + q] * m->ident[3 * (size_t)v + q];
             nf++;
         }
-    for (int k = 0; k < s->Mid; k++) b2 += s->beta[k] * s->beta[k];
+    for (int k = 0; k < s->M; k++) b2 += s->beta[k] * s->beta[k];
     fr_log(ctx, FRIG_LOG_DEBUG, "sfs: identity change |dbeta| %.3f, RMS %.3f mm over the face's vertices, prior %.1f",
            sqrt(b2), 1e3 * sqrt(rms / (nf ? nf : 1)), ident_prior(s, s->beta));
-    if (s->M > s->Mid)
-        fr_log(ctx, FRIG_LOG_DEBUG, "sfs: rigid change: turn %.3f %.3f %.3f deg, shift %.3f %.3f %.3f mm",
-               s->beta[s->Mid] * RIGID_R * 57.29578, s->beta[s->Mid + 1] * RIGID_R * 57.29578,
-               s->beta[s->Mid + 2] * RIGID_R * 57.29578, s->beta[s->Mid + 3], s->beta[s->Mid + 4], s->beta[s->Mid + 5]);
     return st;
 }
 
@@ -1146,8 +1120,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         eq_ok &= q->H && q->g && q->Haa && q->HaD && q->ga;
     }
     if (o->id_count > 0 && o->id_modes && m->ident) {
-        int M = s.M = o->id_count + (o->id_rigid ? 6 : 0);
-        s.Mid = o->id_count;
+        int M = s.M = o->id_count;
         for (int b = 0; b < 2; b++) {
             texel_eqs *q = &s.eq[b];
             q->A = malloc(sizeof(double) * HP * nt), q->B = malloc(sizeof(double) * FR_SFS_STENCIL * NP * nt);
@@ -1168,20 +1141,10 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         for (int t = 0; t < s.nt && eq_ok; t++) {
             const int32_t *tri = m->tris + 3 * (size_t)uv->tri[t];
             const float *b = uv->bary + 3 * (size_t)t;
-            for (int k = 0; k < s.Mid; k++) {
+            for (int k = 0; k < M; k++) {
                 double x[3];
                 interp(o->id_modes + n3 * (size_t)k, tri, b, x);
                 for (int q = 0; q < 3; q++) s.U[3 * (size_t)M * t + (size_t)M * q + k] = x[q];
-            }
-            if (M > s.Mid) { /* the rigid unknowns at the texel's neutral point */
-                double X0[3], r[3][3];
-                interp(m->rig->neutral, tri, b, X0);
-                rigid_modes(X0, r);
-                for (int k = 0; k < 3; k++)
-                    for (int q = 0; q < 3; q++) {
-                        s.U[3 * (size_t)M * t + (size_t)M * q + s.Mid + k] = r[k][q];
-                        s.U[3 * (size_t)M * t + (size_t)M * q + s.Mid + 3 + k] = k == q ? RIGID_T : 0;
-                    }
             }
         }
     }
@@ -1267,14 +1230,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
                 }
                 if (s.M > 0) {
                     for (int k = 0; k < s.M; k++) s.beta_try[k] = s.beta[k] + s.dbeta[k];
-                    for (int t = 0; t < s.nt; t++) {
-                        const double *u = s.U + 3 * (size_t)s.M * t;
-                        for (int q = 0; q < 3; q++) {
-                            double x = 0;
-                            for (int k = 0; k < s.M; k++) x += u[s.M * q + k] * s.dbeta[k];
-                            s.dXb[3 * (size_t)t + q] = x;
-                        }
-                    }
+                    ident_offsets(&s, s.dbeta, NULL, s.dXb);
                 }
                 if (o->joint_albedo) albedo_step(&s, s.delta);
                 double ce = fr_cpu_seconds();
@@ -1332,7 +1288,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
             disp[q] = (float)(s.D[t] * MM);
             for (int c = 0; c < 3; c++) ps->albedo[3 * q + c] = s.albedo[3 * t + c];
         }
-        if (s.M > 0 && o->id_change) memcpy(o->id_change, s.beta, sizeof(double) * (size_t)s.Mid);
+        if (s.M > 0 && o->id_change) memcpy(o->id_change, s.beta, sizeof(double) * (size_t)s.M);
     }
     fr_cholesky_free(ch);
     fr_triplets_free(&tr);

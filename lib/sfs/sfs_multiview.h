@@ -34,7 +34,6 @@ typedef struct fr_sfs_multiview_options {
     double id_prior;
     const double *id_start;
     double *id_change;
-    int id_rigid;     /* 1: with the identity, a turn and shift of the whole surface too (no prior; a common pose error's) */
 } fr_sfs_multiview_options;
 
 void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o);
