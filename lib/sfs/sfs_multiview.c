@@ -42,6 +42,7 @@
 
 #include "core/clock.h"
 #include "core/context.h"
+#include "linalg/linalg.h"
 #include "raster/raster.h"
 #include "raster/rotation.h"
 #include "rig/rig.h"
@@ -625,30 +626,6 @@ static void assemble_ident(mv *s) {
     free(Ur), free(Wr);
 }
 
-/* Dense Cholesky of the n x n A (row-major, overwritten) and the solution of A x = b in b; 0 when
- * A is not positive definite. */
-static int dense_solve(int n, double *A, double *b) {
-    for (int i = 0; i < n; i++) {
-        for (int j = 0; j <= i; j++) {
-            double x = A[(size_t)n * i + j];
-            for (int q = 0; q < j; q++) x -= A[(size_t)n * i + q] * A[(size_t)n * j + q];
-            if (i == j) {
-                if (!(x > 0)) return 0;
-                A[(size_t)n * i + i] = sqrt(x);
-            } else A[(size_t)n * i + j] = x / A[(size_t)n * j + j];
-        }
-    }
-    for (int i = 0; i < n; i++) {
-        for (int q = 0; q < i; q++) b[i] -= A[(size_t)n * i + q] * b[q];
-        b[i] /= A[(size_t)n * i + i];
-    }
-    for (int i = n - 1; i >= 0; i--) {
-        for (int q = i + 1; q < n; q++) b[i] -= A[(size_t)n * q + i] * b[q];
-        b[i] /= A[(size_t)n * i + i];
-    }
-    return 1;
-}
-
 /* The joint step with the identity: the damped D block K (factored in ch) solved for C's columns
  * and the rhs, the identity's Schur complement Hbb + damping - C^T K^-1 C solved for dbeta, and
  * the displacement's step back-substituted (into s->delta). */
@@ -673,7 +650,13 @@ static frig_status solve_ident(frig_ctx *ctx, mv *s, fr_cholesky *ch, double mu)
         }
         s->S[(size_t)M * m + m] += lam * s->Hbb[(size_t)M * m + m];
     }
-    if (!dense_solve(M, s->S, s->dbeta)) memset(s->dbeta, 0, sizeof(double) * (size_t)M);
+    st = fr_solve_spd(ctx, M, 1, s->S, M, s->dbeta, M); /* S symmetric: its row-major layout is LAPACK's */
+    if (st == FRIG_ERR_NUMERIC) { /* not positive definite at this damping: no identity step this try */
+        frig_ctx_clear_error(ctx);
+        st = FRIG_OK;
+        memset(s->dbeta, 0, sizeof(double) * (size_t)M);
+    }
+    if (st) return st;
     for (size_t t = 0; t < nt; t++) {
         double d = y[t];
         for (int m = 0; m < M; m++) d -= s->Y[nt * (size_t)m + t] * s->dbeta[m];
