@@ -155,7 +155,7 @@ static const param_row rows[] = {
      "weight holding each photo's normals to those of the shape recovered from all photos"},
     {FRIG_PARAM_SFS_SHAPE_SIZE, "sfs.shape_size", 128, 16, 2048, 1,
      "side of the UV grid on which the shape shared by all photos is solved (texels of the model's face layout)"},
-    {FRIG_PARAM_SFS_POSE_LEVELS, "sfs.pose_levels", 3, 0, 6, 1,
+    {FRIG_PARAM_SFS_POSE_LEVELS, "sfs.pose_levels", 2, 0, 6, 1,
      "each photo's pose registered to the shared shape and albedo, coarse to fine, with this many blur levels "
      "(photometric and occluding-contour terms; 0: the fit's poses)"},
     {FRIG_PARAM_SFS_POSE_SIGMA, "sfs.pose_sigma", 2, 0.5, 32, 0,
@@ -164,20 +164,20 @@ static const param_row rows[] = {
      "weight of the shared shape's multi-view term (each photo's own image gradient along a texel's path; 0 off)"},
     {FRIG_PARAM_SFS_JOINT_ALBEDO, "sfs.joint_albedo", 1, 0, 1, 1,
      "1: the shared shape's texel albedo solved with the displacement (Schur complement), 0: alternated"},
-    {FRIG_PARAM_SFS_SHAPE_ITERATIONS, "sfs.shape_iterations", 8, 1, 100, 1,
-     "Gauss-Newton iterations of the shared shape per round"},
+    {FRIG_PARAM_SFS_SHAPE_ITERATIONS, "sfs.shape_iterations", 2, 1, 100, 1,
+     "Gauss-Newton iterations of the shared shape per round (the light solve takes 4)"},
     {FRIG_PARAM_SFS_SHAPE_SIGMA, "sfs.shape_sigma", 0.1, 1e-3, 1, 0,
      "the shared shape's residual scale, relative intensity of one standard deviation"},
-    {FRIG_PARAM_SFS_JOINT_POSE, "sfs.joint_pose", 3, 0, 50, 1,
+    {FRIG_PARAM_SFS_JOINT_POSE, "sfs.joint_pose", 2, 0, 50, 1,
      "Levenberg-Marquardt steps of each photo's pose against the shared shape's shading after each round (0 off)"},
     {FRIG_PARAM_SFS_JOINT_MIN_PHOTOS, "sfs.joint_min_photos", 16, 0, 1e6, 1,
      "with fewer photos to judge than this, the shared shape is solved the light way (albedo alternated, no multi-view "
-     "term, no pose registration, at most 3 rounds of 4 iterations): a few photos' shared albedo and shape cannot "
+     "term, no pose registration, at most 3 rounds of 4 iterations each): a few photos' shared albedo and shape cannot "
      "register them (measured on 7: poses drift to 14 degrees); 0: never"},
     {FRIG_PARAM_SFS_JOINT_MAX_PHOTOS, "sfs.joint_max_photos", 60, 0, 1e6, 1,
      "with more photos to judge than this, the light shared solve too: the full one's cost grows with the photos (91 "
      "video frames: 34 CPU s for the shared shape against 6) and frig run keeps 100 photos under a minute; 0: no limit"},
-    {FRIG_PARAM_SFS_EXPRESSION_STEPS, "sfs.expression_steps", 3, 0, 50, 1,
+    {FRIG_PARAM_SFS_EXPRESSION_STEPS, "sfs.expression_steps", 2, 0, 50, 1,
      "Gauss-Newton steps of each photo's expression weights against its own shading and image gradients after each "
      "round of the full shared solve (the rig at the weights plus the shared displacement; the light solve keeps the fit's; "
      "0: the fit's weights everywhere)"},

@@ -57,7 +57,7 @@ void fr_sfs_light_shared_solve(fr_sfs_settings *s) {
     s->pose_levels = 0;
     s->expression_steps = 0;
     if (s->rounds > 3) s->rounds = 3;
-    if (s->shape_iterations > 4) s->shape_iterations = 4;
+    s->shape_iterations = 4; /* the full solve takes fewer (sfs.shape_iterations 2): it has the identity and the registration between rounds */
     s->shape_sigma = 0.03;
     s->pose_steps = 0;
     s->identity_count = 0; /* without the multi-view term the identity takes the shading's errors (docs/sfs.md) */
