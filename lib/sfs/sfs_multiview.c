@@ -667,8 +667,9 @@ static frig_status solve_ident(frig_ctx *ctx, mv *s, fr_cholesky *ch, double mu)
 
 /* The identity change baked into the rig: the mesh's per-vertex change from beta, every used
  * photo's texel geometry and normal constants again, each view drawn again (with the
- * displacement) for the visibility of the next sampling; beta_s = beta. */
-static frig_status ident_bake(frig_ctx *ctx, mv *s) {
+ * displacement) for the visibility of the next sampling unless the round's pose step draws it
+ * (redraw 0); beta_s = beta. */
+static frig_status ident_bake(frig_ctx *ctx, mv *s, int redraw) {
     const fr_sfs_mesh *m = s->m;
     size_t n3 = 3 * (size_t)m->nv;
     for (size_t i = 0; i < n3; i++) {
@@ -690,7 +691,7 @@ static frig_status ident_bake(frig_ctx *ctx, mv *s) {
         fr_ctx_init_child(&child, ctx);
         double R[9], t[3];
         memcpy(R, s->views[k].R, sizeof R), memcpy(t, s->views[k].t, sizeof t);
-        if (photo_geometry(&child, s, k) || fr_sfs_view_render(&child, m, &s->views[k], R, t, vd)) failed = 1;
+        if (photo_geometry(&child, s, k) || (redraw && fr_sfs_view_render(&child, m, &s->views[k], R, t, vd))) failed = 1;
         else photo_base(s, k);
     }
     if (failed && !st) st = fr_nomem(ctx, "the identity change");
@@ -976,7 +977,7 @@ static frig_status expression_init(frig_ctx *ctx, mv *s) {
 
 /* Every photo's expression weights refined against its pixels with the shared surface, albedo
  * and its lighting held (sfs_expression.c); its texel geometry and its view drawn again at them. */
-static frig_status expression_step(frig_ctx *ctx, mv *s, int threads) {
+static frig_status expression_step(frig_ctx *ctx, mv *s, int threads, int redraw) {
     int T = s->uv->size;
     size_t TT = (size_t)T * T;
     float *disp = calloc(TT, sizeof(float)), *vd = malloc(sizeof(float) * ((size_t)s->m->nv + 1));
@@ -1005,8 +1006,8 @@ static frig_status expression_step(frig_ctx *ctx, mv *s, int threads) {
         moved += d, gain += change, photos++;
         double R[9], t[3];
         memcpy(R, v->R, sizeof R), memcpy(t, v->t, sizeof t);
-        /* the registration that follows draws the view again itself */
-        if (photo_geometry(&child, s, k) || (s->o->pose_levels <= 0 && fr_sfs_view_render(&child, s->m, v, R, t, vd)))
+        /* without redraw the pose step that follows draws the view again itself */
+        if (photo_geometry(&child, s, k) || (redraw && fr_sfs_view_render(&child, s->m, v, R, t, vd)))
             failed = 1;
         else
             photo_base(s, k);
@@ -1061,6 +1062,7 @@ static frig_status joint_pose(frig_ctx *ctx, mv *s, int threads, int steps, int 
     fr_sfs_pose_align_options ao;
     fr_sfs_pose_align_options_default(&ao);
     ao.levels = levels, ao.sigma_px = s->o->pose_sigma_px;
+    ao.redraw = steps <= 0; /* with pose steps the view is drawn after them */
     int failed = 0;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int k = 0; k < s->nviews; k++) {
@@ -1237,8 +1239,12 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         for (int t = 0; t < s.nt; t++) rms += s.D[t] * s.D[t];
         fr_log(ctx, FRIG_LOG_DEBUG, "sfs: shared shape round %d: energy %.6g, displacement RMS %.3f mm", outer + 1, e,
                sqrt(rms / (s.nt ? s.nt : 1)));
+        /* the round's pose step (below) draws every view again before the next sampling reads it,
+         * so the bake and the expression step need not (nothing between reads the drawing) */
+        int levels = o->pose_levels <= 0 ? 0 : outer == 0 ? o->pose_levels : outer == o->outer - 1 ? 1 : 0;
+        int pose_follows = o->pose_steps > 0 || levels > 0;
         double cb = fr_cpu_seconds();
-        if (s.M > 0 && !st) st = ident_bake(ctx, &s);
+        if (s.M > 0 && !st) st = ident_bake(ctx, &s, !pose_follows);
         s.cpu_id[3] += fr_cpu_seconds() - cb;
         c1 = fr_cpu_seconds(), cpu[CPU_SHAPE] += c1 - c0, c0 = c1;
         update_albedo(&s, threads);
@@ -1253,10 +1259,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
          * after the first round, its finest level after the last; the rounds between leave the
          * poses (measured: the same clouds and neutral within noise, docs/sfs.md "The fourth pass") */
         c1 = fr_cpu_seconds(), cpu[CPU_LIGHTING] += c1 - c0, c0 = c1;
-        if (o->expression_steps > 0 && !st) st = expression_step(ctx, &s, threads);
+        if (o->expression_steps > 0 && !st) st = expression_step(ctx, &s, threads, !pose_follows);
         c1 = fr_cpu_seconds(), cpu[CPU_EXPRESSIONS] += c1 - c0, c0 = c1;
-        int levels = o->pose_levels <= 0 ? 0 : outer == 0 ? o->pose_levels : outer == o->outer - 1 ? 1 : 0;
-        if ((o->pose_steps > 0 || levels > 0) && !st) st = joint_pose(ctx, &s, threads, o->pose_steps, levels);
+        if (pose_follows && !st) st = joint_pose(ctx, &s, threads, o->pose_steps, levels);
         c1 = fr_cpu_seconds(), cpu[CPU_REGISTRATION] += c1 - c0, c0 = c1;
     }
     fr_log(ctx, FRIG_LOG_DEBUG, "sfs: shared shape (CPU s): registration %.2f, sampling and albedo %.2f, shape %.2f, "

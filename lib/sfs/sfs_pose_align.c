@@ -46,6 +46,7 @@ void fr_sfs_pose_align_options_default(fr_sfs_pose_align_options *o) {
     o->max_deg = 25.0;
     o->w_photo = 1.0;
     o->w_contour = 1.0;
+    o->redraw = 1;
 }
 
 static double huber_rho(double u) {
@@ -572,7 +573,8 @@ frig_status fr_sfs_pose_align(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view *
         if (!(turn <= o->max_deg)) memcpy(A, I3, sizeof A), memcpy(tc, t0, sizeof tc), turn = 0;
         if (turn_deg) *turn_deg = turn;
         fr_mat3_mul(A, R0, R);
-        s = fr_sfs_view_render(ctx, m, v, R, tc, vdisp);
+        if (o->redraw) s = fr_sfs_view_render(ctx, m, v, R, tc, vdisp);
+        else memcpy(v->R, R, sizeof v->R), memcpy(v->t, tc, sizeof v->t);
     }
     free(P), free(M), free(scratch);
     level_free(&L);
