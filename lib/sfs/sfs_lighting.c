@@ -45,12 +45,15 @@ static void moments(int n, const uint8_t *mask, const float *I, const float *alb
         double w = (wt ? wt[i] : 1.0) * (robust ? robust[i] : 1.0);
         if (!(w > 0)) continue;
         double nd[3] = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]}, y[FR_SH_COUNT];
+        double yy[FR_SH_COUNT * (FR_SH_COUNT + 1) / 2]; /* the lower triangle of y y^T, shared by the channels */
         fr_sh_basis(nd, y);
+        for (int k = 0, h = 0; k < FR_SH_COUNT; k++)
+            for (int l = 0; l <= k; l++, h++) yy[h] = y[k] * y[l];
         for (int c = 0; c < 3; c++) {
             double a = albedo[3 * i + c], wa2 = w * a * a, wai = w * a * I[3 * i + c];
-            for (int k = 0; k < FR_SH_COUNT; k++) {
+            for (int k = 0, h = 0; k < FR_SH_COUNT; k++) {
                 b[c][k] += wai * y[k];
-                for (int l = 0; l <= k; l++) M[c][k * FR_SH_COUNT + l] += wa2 * y[k] * y[l];
+                for (int l = 0; l <= k; l++, h++) M[c][k * FR_SH_COUNT + l] += wa2 * yy[h];
             }
         }
     }

@@ -95,13 +95,14 @@ typedef struct photo_texels {
  * ga (3). */
 #define HN (FR_SFS_STENCIL * (FR_SFS_STENCIL + 1) / 2)
 #define NP (3 * FR_SFS_STENCIL)
-#define HP (NP * (NP + 1) / 2)
+#define NZ 9               /* the identity's derivative gathered per texel (ident_rows) */
+#define HZ (NZ * (NZ + 1) / 2)
 typedef struct texel_eqs {
     double *H, *g, *Haa, *HaD, *ga;
-    /* with identity modes, by the stencil points' head-frame positions (15 = 5 points x 3, per
-     * metre): A (the upper triangle), B (5 x 15: D by position), gp (15), Hap (3 x 15: albedo by
-     * position); after the albedo's elimination when it is joint */
-    double *A, *B, *gp, *Hap;
+    /* with identity modes, by z (9, ident_rows: the stencil points' head-frame positions, per
+     * metre, are E z): Z (the upper triangle of the Gauss-Newton matrix), Bz (5 x 9: D by z), gz (9),
+     * Hz (3 x 9: albedo by z); after the albedo's elimination when it is joint */
+    double *Z, *Bz, *gz, *Hz;
 } texel_eqs;
 
 typedef struct mv {
@@ -338,6 +339,37 @@ static int curv(const mv *s, int t, int dir, int nb[3]) {
     return 1;
 }
 
+/* The identity's derivative by the stencil points' positions (15: 5 points x 3) is E z with z
+ * (9) = the derivative by the horizontal secant's end (+ right, - left), by the vertical one's
+ * (+ down, - up), and by the centre (the stereo term), E fixed per texel (its rows hold at most
+ * three of +-1): texel t's rows of E, as columns and coefficients. */
+static void ident_rows(const mv *s, int t, int nnz[NP], int col[NP][3], double cf[NP][3]) {
+    int slot[4];
+    for (int a = 0; a < 4; a++) slot[a] = fr_sfs_end_slot(&s->grid, t, a);
+    for (int r = 0; r < NP; r++) {
+        int pt = r / 3, q = r % 3, n = 0;
+        double cx = (pt == slot[1]) - (pt == slot[0]), cy = (pt == slot[3]) - (pt == slot[2]);
+        if (cx != 0) col[r][n] = q, cf[r][n++] = cx;
+        if (cy != 0) col[r][n] = 3 + q, cf[r][n++] = cy;
+        if (pt == 0) col[r][n] = 6 + q, cf[r][n++] = 1.0;
+        nnz[r] = n;
+    }
+}
+
+/* E^T x for x given at the texels (3 per texel): z's change when the stencil's points of t move by
+ * x (u: t's stencil). */
+static void ident_z(const mv *s, int t, const int u[FR_SFS_STENCIL], const double *x, double z[NZ]) {
+    int nnz[NP], col[NP][3];
+    double cf[NP][3];
+    ident_rows(s, t, nnz, col, cf);
+    memset(z, 0, NZ * sizeof *z);
+    for (int r = 0; r < NP; r++) {
+        if (!nnz[r] || u[r / 3] < 0) continue;
+        double v = x[3 * (size_t)u[r / 3] + r % 3];
+        for (int k = 0; k < nnz[r]; k++) z[col[r][k]] += cf[r][k] * v;
+    }
+}
+
 /* Per texel at displacement D and albedo: the 6 Hessian entries and 3 gradient entries of its
  * data terms (all photos); with the joint albedo, the texel's albedo eliminated (its Schur
  * complement has the same stencil) and its terms kept for the back-substitution; and the data
@@ -350,14 +382,12 @@ static double texel_normal_equations(const mv *s, const double *D, const double 
     double *Haa = eqs->Haa + 3 * (size_t)t, *HaD = eqs->HaD + 3 * NS * (size_t)t, *ga = eqs->ga + 3 * (size_t)t;
     memset(Haa, 0, 3 * sizeof *Haa), memset(HaD, 0, 3 * NS * sizeof *HaD), memset(ga, 0, 3 * sizeof *ga);
     int id = s->M > 0;
-    double *A = NULL, *B = NULL, *gp = NULL, *Hap = NULL;
-    int slot[4] = {0, 0, 0, 0};
+    double *Z = NULL, *Bz = NULL, *gz = NULL, *Hz = NULL; /* the identity's terms by z (ident_rows) */
     if (id) {
-        A = eqs->A + HP * (size_t)t, B = eqs->B + NS * NP * (size_t)t, gp = eqs->gp + NP * (size_t)t;
-        Hap = eqs->Hap + 3 * NP * (size_t)t;
-        memset(A, 0, HP * sizeof *A), memset(B, 0, NS * NP * sizeof *B), memset(gp, 0, NP * sizeof *gp);
-        memset(Hap, 0, 3 * NP * sizeof *Hap);
-        for (int a = 0; a < 4; a++) slot[a] = fr_sfs_end_slot(&s->grid, t, a);
+        Z = eqs->Z + HZ * (size_t)t, Bz = eqs->Bz + NS * NZ * (size_t)t, gz = eqs->gz + NZ * (size_t)t;
+        Hz = eqs->Hz + 3 * NZ * (size_t)t;
+        memset(Z, 0, HZ * sizeof *Z), memset(Bz, 0, NS * NZ * sizeof *Bz), memset(gz, 0, NZ * sizeof *gz);
+        memset(Hz, 0, 3 * NZ * sizeof *Hz);
     }
     double N[3], dN[NS][3], S[3], G[3][3], sec[7];
     for (int k = 0; k < s->nviews; k++) {
@@ -383,28 +413,22 @@ static double texel_normal_equations(const mv *s, const double *D, const double 
             /* by the stencil points' positions: N = c / |c|, c = s (ex x ey) + K, ex = P(right) - P(left),
              * ey = P(down) - P(up); d r / d c = a / sc (G - (G.N) N) / |c| =: gn, so d r / d P(right) =
              * s ey x gn (minus that at the left), d r / d P(down) = s gn x ex (minus that at the top);
-             * and the stereo term at the centre */
-            double jp[NP], gn[3], f = a / sc * s->sign[t] / sec[6];
+             * and the stereo term at the centre: z = (ey x gn, gn x ex, -dI/dP / sc) */
+            double z[NZ], gn[3], f = a / sc * s->sign[t] / sec[6];
             double gN = G[c][0] * N[0] + G[c][1] * N[1] + G[c][2] * N[2];
             for (int q = 0; q < 3; q++) gn[q] = f * (G[c][q] - gN * N[q]);
-            double vx[3], vy[3];
-            fr_sfs_cross(sec + 3, gn, vx);
-            fr_sfs_cross(gn, sec, vy);
-            memset(jp, 0, sizeof jp);
-            for (int q = 0; q < 3; q++) {
-                jp[3 * slot[0] + q] -= vx[q], jp[3 * slot[1] + q] += vx[q];
-                jp[3 * slot[2] + q] -= vy[q], jp[3 * slot[3] + q] += vy[q];
-                if (p->gP) jp[q] -= p->gP[9 * (size_t)t + 3 * c + q] / sc;
-            }
-            for (int q = 0, h = 0; q < NP; q++) {
-                double wq = w * jp[q];
-                for (int b = q; b < NP; b++, h++) A[h] += wq * jp[b];
-                gp[q] += wq * r;
-                Hap[NP * c + q] += wq * ja;
+            fr_sfs_cross(sec + 3, gn, z);
+            fr_sfs_cross(gn, sec, z + 3);
+            for (int q = 0; q < 3; q++) z[6 + q] = p->gP ? -p->gP[9 * (size_t)t + 3 * c + q] / sc : 0.0;
+            for (int q = 0, h = 0; q < NZ; q++) {
+                double wq = w * z[q];
+                for (int b = q; b < NZ; b++, h++) Z[h] += wq * z[b];
+                gz[q] += wq * r;
+                Hz[NZ * c + q] += wq * ja;
             }
             for (int q = 0; q < NS; q++) {
                 double wq = w * j[q];
-                for (int b = 0; b < NP; b++) B[NP * q + b] += wq * jp[b];
+                for (int b = 0; b < NZ; b++) Bz[NZ * q + b] += wq * z[b];
             }
         }
     }
@@ -418,12 +442,12 @@ static double texel_normal_equations(const mv *s, const double *D, const double 
             for (int b = q; b < NS; b++, k++) H[k] -= h[q] * h[b] * inv;
         for (int q = 0; q < NS; q++) g[q] -= h[q] * ga[c] * inv;
         if (!id) continue;
-        const double *hp = Hap + NP * c;
-        for (int q = 0, k = 0; q < NP; q++)
-            for (int b = q; b < NP; b++, k++) A[k] -= hp[q] * hp[b] * inv;
+        const double *hz = Hz + NZ * c;
+        for (int q = 0, k = 0; q < NZ; q++)
+            for (int b = q; b < NZ; b++, k++) Z[k] -= hz[q] * hz[b] * inv;
         for (int q = 0; q < NS; q++)
-            for (int b = 0; b < NP; b++) B[NP * q + b] -= h[q] * hp[b] * inv;
-        for (int q = 0; q < NP; q++) gp[q] -= hp[q] * ga[c] * inv;
+            for (int b = 0; b < NZ; b++) Bz[NZ * q + b] -= h[q] * hz[b] * inv;
+        for (int q = 0; q < NZ; q++) gz[q] -= hz[q] * ga[c] * inv;
     }
     return e;
 }
@@ -498,11 +522,11 @@ static void albedo_step(mv *s, const double *dD) {
                 double x = q->ga[3 * (size_t)t + c];
                 for (int a = 0; a < FR_SFS_STENCIL; a++)
                     if (u[a] >= 0) x += h[a] * dD[u[a]];
-                if (s->M > 0) { /* and the identity's step at the stencil's points */
-                    const double *hp = q->Hap + 3 * NP * (size_t)t + NP * c;
-                    for (int a = 0; a < FR_SFS_STENCIL; a++)
-                        if (u[a] >= 0)
-                            for (int k = 0; k < 3; k++) x += hp[3 * a + k] * s->dXb[3 * (size_t)u[a] + k];
+                if (s->M > 0) { /* and the identity's step at the stencil's points, by z */
+                    const double *hz = q->Hz + 3 * NZ * (size_t)t + NZ * c;
+                    double dz[NZ];
+                    ident_z(s, t, u, s->dXb, dz);
+                    for (int k = 0; k < NZ; k++) x += hz[k] * dz[k];
                 }
                 v -= x / Haa;
             }
@@ -550,7 +574,8 @@ static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr) {
 }
 
 /* The identity's equations at the current point from the texels' (eq[cur]): C = H_Db (nt x M),
- * Hbb = sum_t U^T A U over each texel's stencil points, gb, with the prior's terms (energy
+ * Hbb = sum_t V^T Z V with V = E^T U over each texel's stencil points (9 x M: U's rows at the
+ * points combined as z combines them, ident_rows), gb, with the prior's terms (energy
  * id_prior |start + beta|^2). Texel order, one thread: the same sums whatever the thread count. */
 static void assemble_ident(mv *s) {
     enum { NS = FR_SFS_STENCIL, CHUNK = 256 };
@@ -560,55 +585,60 @@ static void assemble_ident(mv *s) {
     double *Cr = s->Y; /* C row by row first (each texel's M together), then into C's columns */
     memset(Cr, 0, sizeof(double) * nt * (size_t)M);
     memset(s->Hbb, 0, sizeof(double) * (size_t)M * M), memset(s->gb, 0, sizeof(double) * (size_t)M);
-    /* a chunk of texels' stencil rows of U (15 per texel, 0 where a neighbour is missing) and A U */
-    double *Ur = malloc(sizeof(double) * NP * CHUNK * (size_t)M), *Wr = malloc(sizeof(double) * NP * CHUNK * (size_t)M);
-    if (!Ur || !Wr) { /* no identity step this time */
-        free(Ur), free(Wr);
+    /* a chunk of texels' V (9 rows per texel) and Z V */
+    double *Vr = malloc(sizeof(double) * NZ * CHUNK * (size_t)M), *Wr = malloc(sizeof(double) * NZ * CHUNK * (size_t)M);
+    if (!Vr || !Wr) { /* no identity step this time */
+        free(Vr), free(Wr);
         for (int m = 0; m < M; m++) s->Hbb[(size_t)M * m + m] = 1e30;
         return;
     }
     int rows = 0; /* texels in the chunk */
     for (int t = 0; t <= s->nt; t++) {
-        if (rows == CHUNK || (t == s->nt && rows)) { /* Hbb += U^T (A U) over the chunk */
-            cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, M, M, NP * rows, 1.0, Ur, M, Wr, M, 1.0, s->Hbb, M);
+        if (rows == CHUNK || (t == s->nt && rows)) { /* Hbb += V^T (Z V) over the chunk */
+            cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, M, M, NZ * rows, 1.0, Vr, M, Wr, M, 1.0, s->Hbb, M);
             rows = 0;
         }
         if (t == s->nt) break;
-        int u[NS], e[4];
+        int u[NS], e[4], nnz[NP], col[NP][3];
+        double cf[NP][3];
         fr_sfs_stencil(&s->grid, t, u);
         if (!fr_sfs_secant_ends(&s->grid, t, e)) continue;
-        const double *A = eq->A + HP * (size_t)t, *B = eq->B + NS * NP * (size_t)t, *gp = eq->gp + NP * (size_t)t;
-        double *ur = Ur + (size_t)NP * M * rows, *wr = Wr + (size_t)NP * M * rows, Af[NP * NP];
-        for (int q = 0, h = 0; q < NP; q++)
-            for (int b = q; b < NP; b++, h++) Af[NP * q + b] = Af[NP * b + q] = A[h];
-        for (int a = 0; a < NS; a++)
-            for (int q = 0; q < 3; q++) {
-                double *x = ur + (size_t)M * (3 * a + q);
-                if (u[a] < 0) memset(x, 0, sizeof(double) * (size_t)M);
-                else memcpy(x, s->U + 3 * (size_t)M * u[a] + (size_t)M * q, sizeof(double) * (size_t)M);
-            }
+        ident_rows(s, t, nnz, col, cf);
+        const double *Z = eq->Z + HZ * (size_t)t, *Bz = eq->Bz + NS * NZ * (size_t)t, *gz = eq->gz + NZ * (size_t)t;
+        double *vr = Vr + (size_t)NZ * M * rows, *wr = Wr + (size_t)NZ * M * rows, Zf[NZ * NZ];
+        for (int q = 0, h = 0; q < NZ; q++)
+            for (int b = q; b < NZ; b++, h++) Zf[NZ * q + b] = Zf[NZ * b + q] = Z[h];
+        memset(vr, 0, sizeof(double) * NZ * (size_t)M);
         for (int r = 0; r < NP; r++) {
-            double *w = wr + (size_t)M * r;
+            if (!nnz[r] || u[r / 3] < 0) continue;
+            const double *x = s->U + 3 * (size_t)M * u[r / 3] + (size_t)M * (r % 3);
+            for (int k = 0; k < nnz[r]; k++) {
+                double *v = vr + (size_t)M * col[r][k], c = cf[r][k];
+                for (int m = 0; m < M; m++) v[m] += c * x[m];
+            }
+        }
+        for (int i = 0; i < NZ; i++) {
+            double *w = wr + (size_t)M * i;
             memset(w, 0, sizeof(double) * (size_t)M);
-            for (int r2 = 0; r2 < NP; r2++) {
-                double a = Af[NP * r + r2];
-                if (a == 0 || u[r2 / 3] < 0) continue;
-                const double *x = ur + (size_t)M * r2;
+            for (int i2 = 0; i2 < NZ; i2++) {
+                double a = Zf[NZ * i + i2];
+                if (a == 0) continue;
+                const double *x = vr + (size_t)M * i2;
                 for (int m = 0; m < M; m++) w[m] += a * x[m];
             }
-            const double *x = ur + (size_t)M * r;
-            for (int m = 0; m < M; m++) s->gb[m] += x[m] * gp[r];
+            const double *x = vr + (size_t)M * i;
+            for (int m = 0; m < M; m++) s->gb[m] += x[m] * gz[i];
         }
         rows++;
-        /* C's rows at the stencil: B (5 x 15) U */
+        /* C's rows at the stencil: Bz (5 x 9) V */
         for (int a = 0; a < NS; a++) {
             if (u[a] < 0) continue;
-            const double *br = B + NP * a;
+            const double *br = Bz + NZ * a;
             double *cr = Cr + (size_t)M * u[a];
-            for (int r = 0; r < NP; r++) {
-                if (br[r] == 0 || u[r / 3] < 0) continue;
-                const double *x = ur + (size_t)M * r;
-                for (int m = 0; m < M; m++) cr[m] += br[r] * x[m];
+            for (int i = 0; i < NZ; i++) {
+                if (br[i] == 0) continue;
+                const double *x = vr + (size_t)M * i;
+                for (int m = 0; m < M; m++) cr[m] += br[i] * x[m];
             }
         }
     }
@@ -623,7 +653,7 @@ static void assemble_ident(mv *s) {
         s->Hbb[(size_t)M * m + m] += 2 * s->o->id_prior;
         s->gb[m] += 2 * s->o->id_prior * ((s->o->id_start ? s->o->id_start[m] : 0) + s->beta[m]);
     }
-    free(Ur), free(Wr);
+    free(Vr), free(Wr);
 }
 
 /* The joint step with the identity: the damped D block K (factored in ch) solved for C's columns
@@ -903,8 +933,8 @@ static void mv_free(mv *s) {
     for (int k = 0; s->pt && k < s->nviews; k++) free(s->pt[k].K), free(s->pt[k].gP);
     free(s->pt), free(s->left), free(s->right), free(s->up), free(s->down), free(s->sign), free(s->D), free(s->D_s), free(s->D_try), free(s->delta), free(s->rhs);
     for (int b = 0; b < 2; b++)
-        free(s->eq[b].H), free(s->eq[b].g), free(s->eq[b].Haa), free(s->eq[b].HaD), free(s->eq[b].ga), free(s->eq[b].A),
-            free(s->eq[b].B), free(s->eq[b].gp), free(s->eq[b].Hap);
+        free(s->eq[b].H), free(s->eq[b].g), free(s->eq[b].Haa), free(s->eq[b].HaD), free(s->eq[b].ga), free(s->eq[b].Z),
+            free(s->eq[b].Bz), free(s->eq[b].gz), free(s->eq[b].Hz);
     free(s->U), free(s->beta), free(s->beta_s), free(s->beta_try), free(s->dbeta), free(s->Xb), free(s->dXb), free(s->C), free(s->Y);
     free(s->Hbb), free(s->gb), free(s->S);
     free(s->albedo), free(s->albedo_try), free(s->damped), free(s->e_texel);
@@ -1108,9 +1138,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
         int M = s.M = o->id_count;
         for (int b = 0; b < 2; b++) {
             texel_eqs *q = &s.eq[b];
-            q->A = malloc(sizeof(double) * HP * nt), q->B = malloc(sizeof(double) * FR_SFS_STENCIL * NP * nt);
-            q->gp = malloc(sizeof(double) * NP * nt), q->Hap = malloc(sizeof(double) * 3 * NP * nt);
-            eq_ok &= q->A && q->B && q->gp && q->Hap;
+            q->Z = malloc(sizeof(double) * HZ * nt), q->Bz = malloc(sizeof(double) * FR_SFS_STENCIL * NZ * nt);
+            q->gz = malloc(sizeof(double) * NZ * nt), q->Hz = malloc(sizeof(double) * 3 * NZ * nt);
+            eq_ok &= q->Z && q->Bz && q->gz && q->Hz;
         }
         s.U = malloc(sizeof(double) * 3 * (size_t)M * nt);
         s.beta = calloc((size_t)M, sizeof(double)), s.beta_s = calloc((size_t)M, sizeof(double));
