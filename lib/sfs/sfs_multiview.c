@@ -513,7 +513,9 @@ static double evaluate(const mv *s, const double *D, const float *albedo, const 
 static void albedo_step(mv *s, const double *dD) {
     for (int t = 0; t < s->nt; t++) {
         int u[FR_SFS_STENCIL];
+        double dz[NZ]; /* the identity's step at the stencil's points, by z (the same for the channels) */
         fr_sfs_stencil(&s->grid, t, u);
+        if (s->M > 0) ident_z(s, t, u, s->dXb, dz);
         for (int c = 0; c < 3; c++) {
             const texel_eqs *q = &s->eq[s->cur];
             double v = s->albedo[3 * t + c], Haa = q->Haa[3 * (size_t)t + c];
@@ -522,10 +524,8 @@ static void albedo_step(mv *s, const double *dD) {
                 double x = q->ga[3 * (size_t)t + c];
                 for (int a = 0; a < FR_SFS_STENCIL; a++)
                     if (u[a] >= 0) x += h[a] * dD[u[a]];
-                if (s->M > 0) { /* and the identity's step at the stencil's points, by z */
+                if (s->M > 0) { /* and the identity's step */
                     const double *hz = q->Hz + 3 * NZ * (size_t)t + NZ * c;
-                    double dz[NZ];
-                    ident_z(s, t, u, s->dXb, dz);
                     for (int k = 0; k < NZ; k++) x += hz[k] * dz[k];
                 }
                 v -= x / Haa;
