@@ -21,13 +21,21 @@ frig_status fr_rt_fit_weights(frig_ctx *ctx, const fr_rt_settings *s, int nv, in
     if (k == 0 || n == 0) return FRIG_OK;
     size_t n3 = 3 * (size_t)nv;
     int P = k * (k + 1) / 2;
-    /* The vertices some shape moves. */
+    /* Each vertex's k deltas side by side (Dv: 3 k floats per vertex, gathered in blocks of
+     * vertices so that both sides stay in cache), then the vertices some shape moves. */
     int *vert = malloc(sizeof(int) * ((size_t)nv + 1)), nm = 0;
-    if (!vert) return fr_nomem(ctx, "the expression weights");
+    float *Dv = malloc(sizeof(float) * n3 * (size_t)k + 1);
+    if (!vert || !Dv) {
+        free(vert), free(Dv);
+        return fr_nomem(ctx, "the expression weights");
+    }
+    for (int v0 = 0; v0 < nv; v0 += 256)
+        for (int j = 0; j < k; j++)
+            for (int v = v0; v < nv && v < v0 + 256; v++)
+                memcpy(Dv + 3 * ((size_t)v * k + j), D + n3 * j + 3 * (size_t)v, 3 * sizeof(float));
     for (int v = 0; v < nv; v++) {
         double big = 0;
-        for (int j = 0; j < k; j++)
-            for (int c = 0; c < 3; c++) big = fmax(big, fabs(D[n3 * j + 3 * (size_t)v + c]));
+        for (int q = 0; q < 3 * k; q++) big = fmax(big, fabs(Dv[3 * (size_t)v * k + q]));
         if (big > MOVING) vert[nm++] = v;
     }
     double *G = malloc(sizeof(double) * (size_t)P * ((size_t)nm + 1));
@@ -43,9 +51,10 @@ frig_status fr_rt_fit_weights(frig_ctx *ctx, const fr_rt_settings *s, int nv, in
     for (int a = 0; a < nm; a++) {
         int v = vert[a], q = 0;
         double *g = G + (size_t)P * a;
+        const float *dv = Dv + 3 * (size_t)v * k;
         for (int c = 0; c < k; c++)
             for (int r = c; r < k; r++) {
-                const float *dr = D + n3 * r + 3 * (size_t)v, *dc = D + n3 * c + 3 * (size_t)v;
+                const float *dr = dv + 3 * r, *dc = dv + 3 * c;
                 g[q++] = (double)dr[0] * dc[0] + (double)dr[1] * dc[1] + (double)dr[2] * dc[2];
             }
     }
@@ -88,6 +97,6 @@ frig_status fr_rt_fit_weights(frig_ctx *ctx, const fr_rt_settings *s, int nv, in
     fr_blas_serial_end(saved);
     if (failed) st = fr_error(ctx, FRIG_ERR_NUMERIC, "an expression weight problem is not positive definite");
 done:
-    free(vert), free(G), free(C), free(H), free(Dd), free(work);
+    free(vert), free(Dv), free(G), free(C), free(H), free(Dd), free(work);
     return st;
 }

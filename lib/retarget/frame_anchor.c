@@ -18,15 +18,16 @@ void fr_rt_anchor_frame(frig_rig *rig, int nf, const float *before) {
     if (!fr_point_align(before, rig->neutral, nf, 0, R, t, &scale)) return;
     int nv = rig->topo.vertex_count;
     size_t n3 = 3 * (size_t)nv;
+    double y[3];
     for (int v = 0; v < nv; v++) {
         float *x = rig->neutral + 3 * (size_t)v;
-        double y[3];
         for (int i = 0; i < 3; i++) y[i] = R[3 * i] * x[0] + R[3 * i + 1] * x[1] + R[3 * i + 2] * x[2] + t[i];
         for (int i = 0; i < 3; i++) x[i] = (float)y[i];
-        for (int j = 0; j < rig->shape_count; j++) {
+    }
+    for (int j = 0; j < rig->shape_count; j++) /* shape by shape: each a contiguous block */
+        for (int v = 0; v < nv; v++) {
             float *d = rig->deltas + n3 * j + 3 * (size_t)v;
             for (int i = 0; i < 3; i++) y[i] = R[3 * i] * d[0] + R[3 * i + 1] * d[1] + R[3 * i + 2] * d[2];
             for (int i = 0; i < 3; i++) d[i] = (float)y[i];
         }
-    }
 }

@@ -329,10 +329,11 @@ frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, con
     h.change = calloc(n3 * (size_t)h.F, sizeof(float));
     frig_status s = h.change ? classify(ctx, model, nf, &h) : fr_nomem(ctx, "the whole head");
     if (!s) {
-        for (size_t q = 0; q < 3 * (size_t)nf; q++) {
-            h.change[q] = rig->neutral[q] - old_neutral[q];
-            for (int j = 0; j < h.S; j++) h.change[n3 * (j + 1) + q] = rig->deltas[n3 * j + q] - old_deltas[n3 * j + q];
-        }
+        /* Field by field (each a contiguous 3 nv block: a loop over the fields inside would
+         * stride 3 nv floats per step). */
+        for (size_t q = 0; q < 3 * (size_t)nf; q++) h.change[q] = rig->neutral[q] - old_neutral[q];
+        for (int j = 0; j < h.S; j++)
+            for (size_t q = 0; q < 3 * (size_t)nf; q++) h.change[n3 * (j + 1) + q] = rig->deltas[n3 * j + q] - old_deltas[n3 * j + q];
         s = extend_skin(ctx, rig, old_neutral, &h);
     }
     if (!s) {
@@ -342,12 +343,9 @@ frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, con
         s = move_overlays(ctx, &h, old_neutral);
     }
     if (!s) {
-        for (int v = nf; v < h.nv; v++)
-            for (int k = 0; k < 3; k++) {
-                size_t q = 3 * (size_t)v + k;
-                rig->neutral[q] = old_neutral[q] + h.change[q];
-                for (int j = 0; j < h.S; j++) rig->deltas[n3 * j + q] = old_deltas[n3 * j + q] + h.change[n3 * (j + 1) + q];
-            }
+        for (size_t q = 3 * (size_t)nf; q < n3; q++) rig->neutral[q] = old_neutral[q] + h.change[q];
+        for (int j = 0; j < h.S; j++)
+            for (size_t q = 3 * (size_t)nf; q < n3; q++) rig->deltas[n3 * j + q] = old_deltas[n3 * j + q] + h.change[n3 * (j + 1) + q];
         /* A push can bring a vertex nearer another part of the eyeball (the cornea's rim): a few
          * passes. */
         int threads = fr_threads(ctx);
