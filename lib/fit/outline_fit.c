@@ -219,20 +219,16 @@ static void add_row(part *pa, int n, const double *row, double wt, double rr) {
 
 /* The row of a residual jn . X (jn: its derivative by the camera-frame point X, at model vertex
  * corners t3 with barycentrics b): identity modes through R, then the turn about the centre and
- * the shift. */
-static void fill_row(const frig_model *model, int n, const double R[9], const int32_t *t3, const float *b,
+ * the shift. Ut: the n identity modes vertex by vertex (n x 3 floats per vertex), so that a
+ * corner's modes are one contiguous read. */
+static void fill_row(const float *Ut, int n, const double R[9], const int32_t *t3, const float *b,
                      const double jn[3], const double X[3], const double centre[3], double *row) {
-    size_t nv3 = 3 * (size_t)model->topo.vertex_count;
     double jh[3];
     for (int d = 0; d < 3; d++) jh[d] = R[d] * jn[0] + R[3 + d] * jn[1] + R[6 + d] * jn[2];
-    for (int k = 0; k < n; k++) {
-        const float *U = model->identity + nv3 * (size_t)k;
-        double a = 0;
-        for (int c = 0; c < 3; c++) {
-            const float *u = U + 3 * (size_t)t3[c];
-            a += b[c] * (jh[0] * u[0] + jh[1] * u[1] + jh[2] * u[2]);
-        }
-        row[k] = a;
+    for (int k = 0; k < n; k++) row[k] = 0;
+    for (int c = 0; c < 3; c++) {
+        const float *u = Ut + 3 * (size_t)n * (size_t)t3[c];
+        for (int k = 0; k < n; k++) row[k] += b[c] * (jh[0] * u[3 * k] + jh[1] * u[3 * k + 1] + jh[2] * u[3 * k + 2]);
     }
     double q[3] = {X[0] - centre[0], X[1] - centre[1], X[2] - centre[2]};
     row[n + 0] = q[1] * jn[2] - q[2] * jn[1];
@@ -243,7 +239,7 @@ static void fill_row(const frig_model *model, int n, const double R[9], const in
 
 /* The inner landmarks' rows (iBUG 17-67 at the model's landmark vertices), x and y each, in crop
  * pixels, weighed 1 / LANDMARK_PX^2 (Huber at LANDMARK_PX). */
-static void landmark_rows(const frig_model *model, int n, const view *v, const fr_fit_result *res,
+static void landmark_rows(const frig_model *model, const float *Ut, int n, const view *v, const fr_fit_result *res,
                           const double *landmarks, const float *cam, const double centre[3], double *row, part *pa) {
     for (int l = FIRST_INNER; l < 68 && l < model->landmark_count; l++) {
         int vtx = model->landmarks[l];
@@ -256,7 +252,7 @@ static void landmark_rows(const frig_model *model, int n, const view *v, const f
             double target = (landmarks[2 * l + c] - (c ? v->y0 : v->x0) + 0.5) * v->s - 0.5;
             double rr = (uv[c] - target) / LANDMARK_PX, jn[3] = {J[3 * c] / LANDMARK_PX, J[3 * c + 1] / LANDMARK_PX,
                                                                J[3 * c + 2] / LANDMARK_PX};
-            fill_row(model, n, res->R, t3, b, jn, X, centre, row);
+            fill_row(Ut, n, res->R, t3, b, jn, X, centre, row);
             add_row(pa, n, row, fabs(rr) <= 1 ? 1.0 : 1.0 / fabs(rr), rr);
             pa->lss += rr * rr * LANDMARK_PX * LANDMARK_PX, pa->landmarks++;
         }
@@ -265,7 +261,7 @@ static void landmark_rows(const frig_model *model, int n, const view *v, const f
 
 /* Photo a's part of the step at identity w: its outline drawn, paired and linearized. xyz (3 nv)
  * and cam (3 nv) are scratch. */
-static frig_status photo_part(frig_ctx *ctx, const fr_fit_model *fm, const mesh *m, const view *v,
+static frig_status photo_part(frig_ctx *ctx, const fr_fit_model *fm, const float *Ut, const mesh *m, const view *v,
                               const fr_fit_result *res, const double *landmarks, const double *w, double *id_full,
                               double *ex_full, float *xyz, float *cam, float *nrm, double *row, part *pa) {
     const frig_model *model = fm->model;
@@ -321,15 +317,28 @@ static frig_status photo_part(frig_ctx *ctx, const fr_fit_model *fm, const mesh 
             double J[6], jn[3];
             fr_camera_project_jacobian(&v->cam, X, J);
             for (int d = 0; d < 3; d++) jn[d] = nu[0] * J[d] + nu[1] * J[3 + d];
-            fill_row(model, n, res->R, t3, b, jn, X, centre, row);
+            fill_row(Ut, n, res->R, t3, b, jn, X, centre, row);
             add_row(pa, n, row, wt, rr);
             pa->rss += rr * rr, pa->pairs++;
         }
-    if (landmarks && pa->pairs) landmark_rows(model, n, v, res, landmarks, cam, centre, row, pa);
+    if (landmarks && pa->pairs) landmark_rows(model, Ut, n, v, res, landmarks, cam, centre, row, pa);
     for (int a = 0; a < n; a++)
         for (int c = 0; c < a; c++) pa->A[(size_t)a * n + c] = pa->A[(size_t)c * n + a];
     fr_raster_free(r);
     return FRIG_OK;
+}
+
+/* The first n identity modes vertex by vertex: mode k of vertex v at (v n + k) 3. */
+static float *identity_by_vertex(const frig_model *model, int n) {
+    size_t nv = (size_t)model->topo.vertex_count, nv3 = 3 * nv;
+    float *Ut = malloc(sizeof(float) * nv3 * (size_t)n + 1);
+    for (size_t v0 = 0; Ut && v0 < nv; v0 += 256) /* blocks of vertices: the writes stay in cache */
+        for (int k = 0; k < n; k++) {
+            const float *U = model->identity + nv3 * (size_t)k;
+            for (size_t v = v0; v < nv && v < v0 + 256; v++)
+                for (int d = 0; d < 3; d++) Ut[(v * (size_t)n + (size_t)k) * 3 + (size_t)d] = U[3 * v + (size_t)d];
+        }
+    return Ut;
 }
 
 /* The photo's pose moved by its step (turn om about the centre, then shift dt). */
@@ -360,7 +369,8 @@ frig_status fr_fit_outline(frig_ctx *ctx, const fr_fit_model *fm, const fr_outli
     double *dbuf = malloc(sizeof(double) * scratch * (size_t)threads);
     double *S = malloc(sizeof(double) * ((size_t)nid * nid + nid)), *X = malloc(sizeof(double) * 6 * ((size_t)nid + 1));
     double *store = malloc(sizeof(double) * ((size_t)nid * nid + (size_t)nid * 6 + nid) * (size_t)n);
-    if (!st && (!views || !parts || !fbuf || !dbuf || !S || !X || !store)) st = fr_nomem(ctx, "the outline fit");
+    float *Ut = identity_by_vertex(model, nid);
+    if (!st && (!views || !parts || !fbuf || !dbuf || !S || !X || !store || !Ut)) st = fr_nomem(ctx, "the outline fit");
     for (int a = 0; a < n && !st; a++) {
         double *p = store + ((size_t)nid * nid + (size_t)nid * 6 + nid) * (size_t)a;
         parts[a].A = p, parts[a].B = p + (size_t)nid * nid, parts[a].g = parts[a].B + (size_t)nid * 6;
@@ -397,7 +407,7 @@ frig_status fr_fit_outline(frig_ctx *ctx, const fr_fit_model *fm, const fr_outli
             double *row = ex_full + model->expression_count;
             frig_ctx child;
             fr_ctx_init_child(&child, ctx);
-            if (photo_part(&child, fm, &m, &views[a], &res[a], in[a].landmarks, identity, id_full, ex_full, xyz, cam,
+            if (photo_part(&child, fm, Ut, &m, &views[a], &res[a], in[a].landmarks, identity, id_full, ex_full, xyz, cam,
                            nrm, row, &parts[a]))
                 failed = 1;
         }
@@ -468,7 +478,7 @@ frig_status fr_fit_outline(frig_ctx *ctx, const fr_fit_model *fm, const fr_outli
     /* every photo's identity columns are the shared identity */
     for (int a = 0; a < n && !st; a++) memcpy(res[a].w, identity, sizeof(double) * (size_t)nid);
     for (int a = 0; views && a < n; a++) view_free(&views[a]);
-    free(views), free(parts), free(fbuf), free(dbuf), free(S), free(X), free(store), free(step);
+    free(views), free(parts), free(fbuf), free(dbuf), free(S), free(X), free(store), free(step), free(Ut);
     mesh_free(&m);
     return st;
 }
