@@ -702,10 +702,16 @@ static frig_status solve_ident(frig_ctx *ctx, mv *s, fr_cholesky *ch, double mu)
 static frig_status ident_bake(frig_ctx *ctx, mv *s, int redraw) {
     const fr_sfs_mesh *m = s->m;
     size_t n3 = 3 * (size_t)m->nv;
-    for (size_t i = 0; i < n3; i++) {
-        double x = 0;
-        for (int k = 0; k < s->M; k++) x += (double)s->o->id_modes[n3 * (size_t)k + i] * s->beta[k];
-        m->ident[i] = (float)x;
+    enum { BLOCK = 1024 }; /* mode by mode within a block: contiguous reads, the same sums */
+    double x[BLOCK];
+    for (size_t i0 = 0; i0 < n3; i0 += BLOCK) {
+        size_t len = n3 - i0 < BLOCK ? n3 - i0 : BLOCK;
+        for (size_t i = 0; i < len; i++) x[i] = 0;
+        for (int k = 0; k < s->M; k++) {
+            const float *u = s->o->id_modes + n3 * (size_t)k + i0;
+            for (size_t i = 0; i < len; i++) x[i] += (double)u[i] * s->beta[k];
+        }
+        for (size_t i = 0; i < len; i++) m->ident[i0 + i] = (float)x[i];
     }
     memcpy(s->beta_s, s->beta, sizeof(double) * (size_t)s->M);
     int T = s->uv->size;
