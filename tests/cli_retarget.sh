@@ -56,11 +56,14 @@ r_aligned=$(echo "$rt_score" | head -1 | sed -n 's/.*(aligned \([0-9.]*\)).*/\1/
 check "$py -c 'import sys; sys.exit(0 if float(\"$r_aligned\") < 0.85 * float(\"$f_aligned\") else 1)'"
 
 # The outer loop with the sfs stage recovering the clouds each round.
+# A coarse sfs (as cli_run's) keeps it quick: what is checked here is the loop, not the clouds' error.
 w="$tmp/ws_sfs"
-"$F" --quiet --threads 2 sfs -w "$w" --no-overlays --model "$M"
+SO=(--set sfs.texture_size=128 --set sfs.shape_size=64 --set sfs.face_px=100 --set sfs.rounds=3 --set sfs.pose_levels=0
+    --set sfs.stereo=0 --set sfs.joint_albedo=0 --set sfs.shape_iterations=4 --set sfs.shape_sigma=0.03)
+"$F" --quiet --threads 2 "${SO[@]}" sfs -w "$w" --no-overlays --model "$M"
 check '[ $? = 0 ] && [ -s "$w/textures/albedo.png" ]'
 sum_before=$(cat "$w"/clouds/*.ply | md5sum)
-"$F" --threads 2 retarget -w "$w" --model "$M" --iterations 2 2>"$tmp/log_sfs"
+"$F" --threads 2 "${SO[@]}" retarget -w "$w" --model "$M" --iterations 2 2>"$tmp/log_sfs"
 check '[ $? = 0 ]'
 cat "$tmp/log_sfs"
 check 'grep -q "round 2" "$tmp/log_sfs"'
