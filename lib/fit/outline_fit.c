@@ -35,6 +35,7 @@
 #include "linalg/linalg.h"
 #include "mesh/topology.h"
 #include "model/face_size.h"
+#include "model/mode_sums.h"
 #include "model/model.h"
 #include "raster/raster.h"
 #include "raster/rotation.h"
@@ -328,19 +329,6 @@ static frig_status photo_part(frig_ctx *ctx, const fr_fit_model *fm, const float
     return FRIG_OK;
 }
 
-/* The first n identity modes vertex by vertex: mode k of vertex v at (v n + k) 3. */
-static float *identity_by_vertex(const frig_model *model, int n) {
-    size_t nv = (size_t)model->topo.vertex_count, nv3 = 3 * nv;
-    float *Ut = malloc(sizeof(float) * nv3 * (size_t)n + 1);
-    for (size_t v0 = 0; Ut && v0 < nv; v0 += 256) /* blocks of vertices: the writes stay in cache */
-        for (int k = 0; k < n; k++) {
-            const float *U = model->identity + nv3 * (size_t)k;
-            for (size_t v = v0; v < nv && v < v0 + 256; v++)
-                for (int d = 0; d < 3; d++) Ut[(v * (size_t)n + (size_t)k) * 3 + (size_t)d] = U[3 * v + (size_t)d];
-        }
-    return Ut;
-}
-
 /* The photo's pose moved by its step (turn om about the centre, then shift dt). */
 static void move_pose(fr_fit_result *r, const double step[6], const double centre[3]) {
     double dR[9], R2[9], rel[3], rr[3];
@@ -369,7 +357,8 @@ frig_status fr_fit_outline(frig_ctx *ctx, const fr_fit_model *fm, const fr_outli
     double *dbuf = malloc(sizeof(double) * scratch * (size_t)threads);
     double *S = malloc(sizeof(double) * ((size_t)nid * nid + nid)), *X = malloc(sizeof(double) * 6 * ((size_t)nid + 1));
     double *store = malloc(sizeof(double) * ((size_t)nid * nid + (size_t)nid * 6 + nid) * (size_t)n);
-    float *Ut = identity_by_vertex(model, nid);
+    float *Ut = malloc(sizeof(float) * nv3 * (size_t)nid + 1); /* the identity modes vertex by vertex */
+    if (Ut) fr_modes_by_vertex(model->identity, (size_t)nv, nid, Ut);
     if (!st && (!views || !parts || !fbuf || !dbuf || !S || !X || !store || !Ut)) st = fr_nomem(ctx, "the outline fit");
     for (int a = 0; a < n && !st; a++) {
         double *p = store + ((size_t)nid * nid + (size_t)nid * 6 + nid) * (size_t)a;

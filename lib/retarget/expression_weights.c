@@ -12,6 +12,7 @@
 
 #include "core/context.h"
 #include "linalg/box_qp.h"
+#include "model/mode_sums.h"
 #include "retarget/retarget.h"
 
 #define MOVING 1e-4 /* metres: a vertex no shape moves more than this carries no weight information */
@@ -21,18 +22,15 @@ frig_status fr_rt_fit_weights(frig_ctx *ctx, const fr_rt_settings *s, int nv, in
     if (k == 0 || n == 0) return FRIG_OK;
     size_t n3 = 3 * (size_t)nv;
     int P = k * (k + 1) / 2;
-    /* Each vertex's k deltas side by side (Dv: 3 k floats per vertex, gathered in blocks of
-     * vertices so that both sides stay in cache), then the vertices some shape moves. */
+    /* Each vertex's k deltas side by side (Dv: 3 k floats per vertex), then the vertices some
+     * shape moves. */
     int *vert = malloc(sizeof(int) * ((size_t)nv + 1)), nm = 0;
     float *Dv = malloc(sizeof(float) * n3 * (size_t)k + 1);
     if (!vert || !Dv) {
         free(vert), free(Dv);
         return fr_nomem(ctx, "the expression weights");
     }
-    for (int v0 = 0; v0 < nv; v0 += 256)
-        for (int j = 0; j < k; j++)
-            for (int v = v0; v < nv && v < v0 + 256; v++)
-                memcpy(Dv + 3 * ((size_t)v * k + j), D + n3 * j + 3 * (size_t)v, 3 * sizeof(float));
+    fr_modes_by_vertex(D, (size_t)nv, k, Dv);
     for (int v = 0; v < nv; v++) {
         double big = 0;
         for (int q = 0; q < 3 * k; q++) big = fmax(big, fabs(Dv[3 * (size_t)v * k + q]));

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "model/mode_sums.h"
 #include "rig/rig.h"
 #include "sfs/sfs.h"
 
@@ -63,18 +64,5 @@ void fr_sfs_mesh_eval(const fr_sfs_mesh *m, const double *weights, float *xyz) {
     int active[256], na = 0;
     for (int k = 0; k < m->shapes && na < 256; k++)
         if (weights && weights[k] != 0.0) active[na++] = k;
-    /* In blocks, shape by shape within a block (each shape's block one contiguous read); every
-     * coordinate summed in the same order as one at a time. */
-    enum { BLOCK = 1024 };
-    double v[BLOCK];
-    for (size_t i0 = 0; i0 < n3; i0 += BLOCK) {
-        size_t len = n3 - i0 < BLOCK ? n3 - i0 : BLOCK;
-        for (size_t i = 0; i < len; i++) v[i] = r->neutral[i0 + i];
-        for (int a = 0; a < na; a++) {
-            const float *d = r->deltas + n3 * (size_t)active[a] + i0;
-            double wa = weights[active[a]];
-            for (size_t i = 0; i < len; i++) v[i] += wa * d[i];
-        }
-        for (size_t i = 0; i < len; i++) xyz[i0 + i] = (float)(m->ident ? v[i] + m->ident[i0 + i] : v[i]);
-    }
+    fr_mode_sum(n3, r->neutral, r->deltas, n3, na, active, weights, m->ident, xyz);
 }

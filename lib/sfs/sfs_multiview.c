@@ -43,6 +43,7 @@
 #include "core/clock.h"
 #include "core/context.h"
 #include "linalg/linalg.h"
+#include "model/mode_sums.h"
 #include "raster/raster.h"
 #include "raster/rotation.h"
 #include "rig/rig.h"
@@ -702,17 +703,7 @@ static frig_status solve_ident(frig_ctx *ctx, mv *s, fr_cholesky *ch, double mu)
 static frig_status ident_bake(frig_ctx *ctx, mv *s, int redraw) {
     const fr_sfs_mesh *m = s->m;
     size_t n3 = 3 * (size_t)m->nv;
-    enum { BLOCK = 1024 }; /* mode by mode within a block: contiguous reads, the same sums */
-    double x[BLOCK];
-    for (size_t i0 = 0; i0 < n3; i0 += BLOCK) {
-        size_t len = n3 - i0 < BLOCK ? n3 - i0 : BLOCK;
-        for (size_t i = 0; i < len; i++) x[i] = 0;
-        for (int k = 0; k < s->M; k++) {
-            const float *u = s->o->id_modes + n3 * (size_t)k + i0;
-            for (size_t i = 0; i < len; i++) x[i] += (double)u[i] * s->beta[k];
-        }
-        for (size_t i = 0; i < len; i++) m->ident[i0 + i] = (float)x[i];
-    }
+    fr_mode_sum(n3, NULL, s->o->id_modes, n3, s->M, NULL, s->beta, NULL, m->ident);
     memcpy(s->beta_s, s->beta, sizeof(double) * (size_t)s->M);
     int T = s->uv->size;
     float *disp = calloc((size_t)T * T, sizeof(float)), *vd = malloc(sizeof(float) * ((size_t)m->nv + 1));
