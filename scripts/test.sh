@@ -16,7 +16,11 @@ cmake -S . -B build -DFRIG_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/nul
 cmake --build build -j "$jobs"
 (cd build && ctest --output-on-failure -j "$jobs")
 
-cmake -S . -B build-asan -DFRIG_WERROR=ON -DFRIG_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+# the sanitized build takes the plain build's dlib_ref (a reference tool, unsanitized in both)
+dlib_ref=""
+[ -x build/tools/dlib_ref ] && dlib_ref="$PWD/build/tools/dlib_ref"
+cmake -S . -B build-asan -DFRIG_WERROR=ON -DFRIG_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DFRIG_DLIB_REF="$dlib_ref" >/dev/null
 cmake --build build-asan -j "$jobs"
 (cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --output-on-failure -j "$jobs")

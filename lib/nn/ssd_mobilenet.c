@@ -123,12 +123,53 @@ frig_status fr_ssd_from(frig_ctx *ctx, const fr_nn_weights *w, fr_ssd **out) {
     return FRIG_OK;
 }
 
-/* Run conv on *x, replacing it (the old map is freed). */
-static frig_status step(const fr_nn_conv *conv, fr_nn_map *x) {
-    fr_nn_map y = fr_nn_apply(conv, x);
-    fr_nn_map_free(x);
+/* The layers' maps in two buffers used in turn, each as large as the largest map: one
+ * allocation per forward pass instead of one per layer (fresh pages every layer cost more than
+ * the thinner layers' arithmetic, most of all under AddressSanitizer). */
+typedef struct pingpong {
+    float *buf[2];
+    int next; /* the buffer the next layer writes */
+} pingpong;
+
+static void grow(size_t *cap, int h, int w, int c) {
+    size_t n = (size_t)h * (size_t)w * (size_t)c;
+    if (n > *cap) *cap = n;
+}
+
+/* The largest map (floats) the backbone and the prediction layers write for an input h x w. */
+static size_t largest_map(const fr_ssd *net, int h, int w) {
+    size_t cap = 1;
+    fr_nn_conv_out_size(&net->conv0, h, w, &h, &w);
+    grow(&cap, h, w, net->conv0.cout);
+    for (int i = 0; i < 13; i++) {
+        fr_nn_conv_out_size(&net->dw[i], h, w, &h, &w);
+        grow(&cap, h, w, net->dw[i].cout);
+        fr_nn_conv_out_size(&net->pw[i], h, w, &h, &w);
+        grow(&cap, h, w, net->pw[i].cout);
+    }
+    for (int i = 0; i < 8; i++) {
+        fr_nn_conv_out_size(&net->pred[i], h, w, &h, &w);
+        grow(&cap, h, w, net->pred[i].cout);
+    }
+    return cap;
+}
+
+/* Run conv on *x into the buffer not holding it; *x becomes the result. */
+static frig_status step(const fr_nn_conv *conv, pingpong *pp, fr_nn_map *x) {
+    fr_nn_map y = {0, 0, 0, pp->buf[pp->next]};
+    frig_status st = fr_nn_conv_run(conv, x, &y);
+    if (st) return st;
+    pp->next ^= 1;
     *x = y;
-    return y.d ? FRIG_OK : FRIG_ERR_NO_MEMORY;
+    return FRIG_OK;
+}
+
+/* A copy of x in a map of its own. */
+static frig_status keep_copy(const fr_nn_map *x, fr_nn_map *out) {
+    *out = fr_nn_map_new(x->h, x->w, x->c);
+    if (!out->d) return FRIG_ERR_NO_MEMORY;
+    memcpy(out->d, x->d, sizeof(float) * (size_t)x->h * (size_t)x->w * (size_t)x->c);
+    return FRIG_OK;
 }
 
 /* The box predictors' raw outputs, concatenated as the package does: 5118 x 4 encodings and
@@ -153,41 +194,37 @@ static frig_status predict(const fr_ssd *net, const fr_nn_map *maps[6], float *e
     return at == SSD_ANCHORS ? FRIG_OK : FRIG_ERR_INTERNAL;
 }
 
-/* The network on a 512 x 512 x 3 input already scaled to [-1, 1] (consumed). */
-static frig_status forward(const fr_ssd *net, fr_nn_map *x, float *enc, float *score) {
-    fr_nn_map conv11 = {0, 0, 0, NULL}, c1 = conv11, c3 = conv11, c5 = conv11;
-    frig_status st = step(&net->conv0, x);
+/* The network on a 512 x 512 x 3 input already scaled to [-1, 1] (left as it is). */
+static frig_status forward(const fr_ssd *net, const fr_nn_map *in, float *enc, float *score) {
+    fr_nn_map conv11 = {0, 0, 0, NULL}, c1 = conv11, c3 = conv11, c5 = conv11, last = conv11;
+    size_t cap = largest_map(net, in->h, in->w);
+    pingpong pp = {{malloc(sizeof(float) * cap), malloc(sizeof(float) * cap)}, 0};
+    frig_status st = !pp.buf[0] || !pp.buf[1] ? FRIG_ERR_NO_MEMORY : FRIG_OK;
+    fr_nn_map x = *in;
+    if (!st) st = step(&net->conv0, &pp, &x);
     for (int i = 0; i < 13 && !st; i++) {
-        st = step(&net->dw[i], x);
-        if (!st) st = step(&net->pw[i], x);
-        if (!st && i + 1 == 11) {
-            conv11 = fr_nn_map_new(x->h, x->w, x->c);
-            if (!conv11.d) st = FRIG_ERR_NO_MEMORY;
-            else memcpy(conv11.d, x->d, sizeof(float) * (size_t)x->h * (size_t)x->w * (size_t)x->c);
-        }
+        st = step(&net->dw[i], &pp, &x);
+        if (!st) st = step(&net->pw[i], &pp, &x);
+        if (!st && i + 1 == 11) st = keep_copy(&x, &conv11);
     }
-    /* x is now the 16 x 16 x 1024 output; the prediction layers run on a copy. */
-    fr_nn_map p = fr_nn_map_new(x->h, x->w, x->c);
-    if (!st && !p.d) st = FRIG_ERR_NO_MEMORY;
-    if (!st) memcpy(p.d, x->d, sizeof(float) * (size_t)x->h * (size_t)x->w * (size_t)x->c);
+    /* x is now the 16 x 16 x 1024 output, kept; the prediction layers run on from it. */
+    if (!st) st = keep_copy(&x, &last);
     fr_nn_map *keep[8] = {NULL, &c1, NULL, &c3, NULL, &c5, NULL, NULL};
     for (int i = 0; i < 8 && !st; i++) {
-        st = step(&net->pred[i], &p);
-        if (!st && keep[i]) {
-            *keep[i] = fr_nn_map_new(p.h, p.w, p.c);
-            if (!keep[i]->d) st = FRIG_ERR_NO_MEMORY;
-            else memcpy(keep[i]->d, p.d, sizeof(float) * (size_t)p.h * (size_t)p.w * (size_t)p.c);
-        }
+        st = step(&net->pred[i], &pp, &x);
+        if (!st && keep[i]) st = keep_copy(&x, keep[i]);
     }
     if (!st) {
-        const fr_nn_map *maps[6] = {&conv11, x, &c1, &c3, &c5, &p};
+        const fr_nn_map *maps[6] = {&conv11, &last, &c1, &c3, &c5, &x};
         st = predict(net, maps, enc, score);
     }
     fr_nn_map_free(&conv11);
     fr_nn_map_free(&c1);
     fr_nn_map_free(&c3);
     fr_nn_map_free(&c5);
-    fr_nn_map_free(&p);
+    fr_nn_map_free(&last);
+    free(pp.buf[0]);
+    free(pp.buf[1]);
     return st;
 }
 
