@@ -216,7 +216,9 @@ static const char *const ref_photos[] = {
 
 static int test_against_dlib(void) {
     char why[1024], bin[4096], out[4200], cmd[16384];
-    snprintf(bin, sizeof bin, "%s/tools/dlib_ref", FRIG_BINARY_DIR);
+    const char *env = getenv("FRIG_DLIB_REF");
+    if (env && *env) snprintf(bin, sizeof bin, "%s", env);
+    else snprintf(bin, sizeof bin, "%s/tools/dlib_ref", FRIG_BINARY_DIR);
     if (lm_build_dlib_ref(test_shared_path("tools/dlib_ref.cpp"), bin, why, sizeof why)) {
         fprintf(stderr, "cannot compare with dlib: %s\n", why);
         return 1;

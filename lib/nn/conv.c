@@ -98,23 +98,30 @@ static void activate(float *v, size_t n, fr_nn_act act) {
         for (size_t i = 0; i < n; i++) v[i] = v[i] > 0 ? (v[i] < 6 ? v[i] : 6) : 0;
 }
 
-/* Output rows [p0, p1) of the im2col matrix: for each output pixel, its kh x kw x cin patch. */
+/* Output rows [p0, p1) of the im2col matrix: for each output pixel, its kh x kw x cin patch. A
+ * patch row's taps inside the map are one run of the input row (channels fastest in both), so
+ * each is one copy; the taps outside are zeros. */
 static void im2col(const fr_nn_conv *cv, const fr_nn_map *in, int ow, int pt, int pl, int p0, int p1, float *col) {
-    size_t K = (size_t)cv->kh * (size_t)cv->kw * (size_t)cv->cin;
+    size_t K = (size_t)cv->kh * (size_t)cv->kw * (size_t)cv->cin, cin = (size_t)cv->cin;
     for (int p = p0; p < p1; p++) {
         int oy = p / ow, ox = p % ow;
         float *row = col + (size_t)(p - p0) * K;
+        int x0 = ox * cv->stride - pl; /* the input column of tap kx = 0 */
+        int k0 = x0 < 0 ? -x0 : 0, k1 = in->w - x0 < cv->kw ? in->w - x0 : cv->kw; /* taps [k0, k1) inside */
+        if (k0 > cv->kw) k0 = cv->kw;
+        if (k1 < k0) k1 = k0;
         for (int ky = 0; ky < cv->kh; ky++) {
             int iy = oy * cv->stride - pt + ky;
-            for (int kx = 0; kx < cv->kw; kx++) {
-                int ix = ox * cv->stride - pl + kx;
-                float *dst = row + ((size_t)ky * (size_t)cv->kw + (size_t)kx) * (size_t)cv->cin;
-                if (iy < 0 || iy >= in->h || ix < 0 || ix >= in->w)
-                    memset(dst, 0, (size_t)cv->cin * sizeof *dst);
-                else
-                    memcpy(dst, in->d + ((size_t)iy * (size_t)in->w + (size_t)ix) * (size_t)in->c,
-                           (size_t)cv->cin * sizeof *dst);
+            float *dst = row + (size_t)ky * (size_t)cv->kw * cin;
+            if (iy < 0 || iy >= in->h) {
+                memset(dst, 0, (size_t)cv->kw * cin * sizeof *dst);
+                continue;
             }
+            if (k0 > 0) memset(dst, 0, (size_t)k0 * cin * sizeof *dst);
+            if (k1 > k0)
+                memcpy(dst + (size_t)k0 * cin, in->d + ((size_t)iy * (size_t)in->w + (size_t)(x0 + k0)) * cin,
+                       (size_t)(k1 - k0) * cin * sizeof *dst);
+            if (k1 < cv->kw) memset(dst + (size_t)k1 * cin, 0, (size_t)(cv->kw - k1) * cin * sizeof *dst);
         }
     }
 }

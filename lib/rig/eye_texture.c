@@ -524,8 +524,9 @@ frig_status fr_eye_texture_paint(frig_ctx *ctx, const frig_rig *rig, int materia
     if (!s) {
         out->width = out->height = size;
         out->channels = alpha ? 4 : 3;
-        if (!alpha) /* opaque: keep RGB only */
-            for (size_t px = 0; px < n; px++) memmove(out->pixels + 3 * px, out->pixels + 4 * px, 3);
+        if (!alpha) /* opaque: keep RGB only (byte by byte, forward: each read lies at or after its write) */
+            for (size_t px = 0; px < n; px++)
+                for (int c = 0; c < 3; c++) out->pixels[3 * px + (size_t)c] = out->pixels[4 * px + (size_t)c];
         snprintf(out->file, sizeof out->file, "%s", texture_file(kind, eye));
         s = fr_png_encode_pixels(ctx, size, size, out->channels, (size_t)size * (size_t)out->channels, out->pixels,
                                  &out->png, &out->png_size);
