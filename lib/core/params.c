@@ -293,9 +293,9 @@ static const param_row rows[] = {
      "variance (in the model's identity units) of the identity each cloud shows about the shared one: a cloud's "
      "errors are smooth and shared by its points, so each photo's say on the shared identity is capped (0: "
      "every match counts as independent)"},
-    {FRIG_PARAM_RETARGET_SFS_ITERATIONS, "retarget.sfs_iterations", 2, 0, 100, 1,
+    {FRIG_PARAM_RETARGET_SFS_ITERATIONS, "retarget.sfs_iterations", 0, 0, 100, 1,
      "Gauss-Newton iterations of each photo's depth when the outer loop recovers the clouds with the new rig "
-     "(sfs.iterations is the sfs stage's own; 0: the same): the rig there starts closer"},
+     "(0: the sfs stage's own sfs.iterations)"},
     {FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS, "retarget.sfs_shape_iterations", 0, 0, 100, 1,
      "Gauss-Newton iterations per round of the shape shared by all photos when the outer loop recovers the clouds "
      "(0: the sfs stage's own, sfs.shape_iterations); fewer are faster (2: 0.7 CPU s less per recovery of 91 photos) but measured worse "

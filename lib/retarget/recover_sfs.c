@@ -1,10 +1,9 @@
 /* Recovering the clouds in the outer loop (paper section 5.3, Algorithm 3 line 6): the sfs
  * stage run again with the current (personalized) rig at each photo's refitted pose, as a
  * frig_clouds_fn for frig_retarget_refine. No pictures: the loop's clouds are working data.
- * Each photo's depth takes retarget.sfs_iterations Gauss-Newton iterations instead of the
- * stage's sfs.iterations: the rig it starts from has the previous round's clouds in it
- * (measured in docs/retarget.md, "Time per outer iteration": a third of the depth's time, the
- * synthetic subject's neutral no worse).
+ * Each photo's depth takes retarget.sfs_iterations Gauss-Newton iterations when that is set
+ * (0, the default: the stage's own sfs.iterations, 1; docs/retarget.md, "Time per outer
+ * iteration").
  * Inside frig_retarget_refine the albedo texture (the export's; 2-3 CPU s at 512 texels) is
  * not drawn in every recovery: the recovery keeps its computation and the loop draws the last
  * one's texture when it ends (fr_rt_pending_albedo_finish), the same bytes as before. */
