@@ -396,8 +396,8 @@ frig_status fr_fit_outline(frig_ctx *ctx, const fr_fit_model *fm, const fr_outli
             double *row = ex_full + model->expression_count;
             frig_ctx child;
             fr_ctx_init_child(&child, ctx);
-            if (photo_part(&child, fm, Ut, &m, &views[a], &res[a], in[a].landmarks, identity, id_full, ex_full, xyz, cam,
-                           nrm, row, &parts[a]))
+            if (photo_part(&child, fm, Ut, &m, &views[a], &res[a], in[a].landmarks, identity, id_full, ex_full, xyz,
+                           cam, nrm, row, &parts[a]))
                 failed = 1;
         }
         if (failed) {

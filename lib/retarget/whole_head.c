@@ -333,7 +333,8 @@ frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, con
          * stride 3 nv floats per step). */
         for (size_t q = 0; q < 3 * (size_t)nf; q++) h.change[q] = rig->neutral[q] - old_neutral[q];
         for (int j = 0; j < h.S; j++)
-            for (size_t q = 0; q < 3 * (size_t)nf; q++) h.change[n3 * (j + 1) + q] = rig->deltas[n3 * j + q] - old_deltas[n3 * j + q];
+            for (size_t q = 0; q < 3 * (size_t)nf; q++)
+                h.change[n3 * (j + 1) + q] = rig->deltas[n3 * j + q] - old_deltas[n3 * j + q];
         s = extend_skin(ctx, rig, old_neutral, &h);
     }
     if (!s) {
@@ -345,7 +346,8 @@ frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, con
     if (!s) {
         for (size_t q = 3 * (size_t)nf; q < n3; q++) rig->neutral[q] = old_neutral[q] + h.change[q];
         for (int j = 0; j < h.S; j++)
-            for (size_t q = 3 * (size_t)nf; q < n3; q++) rig->deltas[n3 * j + q] = old_deltas[n3 * j + q] + h.change[n3 * (j + 1) + q];
+            for (size_t q = 3 * (size_t)nf; q < n3; q++)
+                rig->deltas[n3 * j + q] = old_deltas[n3 * j + q] + h.change[n3 * (j + 1) + q];
         /* A push can bring a vertex nearer another part of the eyeball (the cornea's rim): a few
          * passes. */
         int threads = fr_threads(ctx);
