@@ -22,6 +22,11 @@ dlib_ref=""
 cmake -S . -B build-asan -DFRIG_WERROR=ON -DFRIG_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DFRIG_DLIB_REF="$dlib_ref" >/dev/null
 cmake --build build-asan -j "$jobs"
-(cd build-asan && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+# Two allocator settings that change no check, only the page faults (each costly in a VM): the shadow
+# of a freed or new large block is cleared in place, not remapped to fresh zero pages
+# (clear_shadow_mmap_threshold), and freed small blocks' memory is not handed back to the system
+# every 5 s (allocator_release_to_os_interval_ms). A pipeline run of cli_run: 19.0-21.2 -> 16.4-18.6 s.
+asan="detect_leaks=1:abort_on_error=1:clear_shadow_mmap_threshold=1073741824:allocator_release_to_os_interval_ms=-1"
+(cd build-asan && ASAN_OPTIONS=$asan UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --output-on-failure -j "$jobs")
 echo "all tests passed (plain and sanitized)"
