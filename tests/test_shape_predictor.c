@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "detect/dlib_deserialize.h"
 #include "detect/shape_predictor.h"
 #include "io/file.h"
 #include "landmark_ref.h"
@@ -276,6 +277,56 @@ static void test_real_mutations(const unsigned char *data, size_t size) {
     free(m);
 }
 
+/* fr_dlib_read_floats (a tight loop) against fr_dlib_read_float one at a time: the same values
+ * bit for bit, the same end position, the same status and message, on floats dlib writes,
+ * odd but valid encodings (8-byte mantissas, 2-byte exponents, subnormal and huge results)
+ * and defects (bad control bytes, an infinite exponent, a float overflowing, cut short). */
+static void test_float_runs(void) {
+    uint64_t seed = 77;
+    for (int trial = 0; trial < 400; trial++) {
+        wbuf b = {0};
+        int n = 1 + (int)(splitmix(&seed) % 12);
+        for (int i = 0; i < n; i++) {
+            uint64_t kind = splitmix(&seed) % 10, r = splitmix(&seed);
+            if (kind < 5) {
+                put_float(&b, (float)((double)(int64_t)r / 9.2e18 * pow(2.0, (double)(int)(r % 60) - 30)));
+            } else if (kind == 5) { /* a wide mantissa, a 2-byte exponent */
+                put_int(&b, (int64_t)(r >> 1) * ((r & 1) ? -1 : 1));
+                put_int(&b, -(int64_t)(70 + r % 200));
+            } else if (kind == 6) { /* subnormal, overflowing or at the exponent limits */
+                put_int(&b, (int64_t)(1 + r % 1000));
+                static const int64_t ex[] = {-160, -149, 100, 127, 32767, -32768, 32000, 31999};
+                put_int(&b, ex[r % 8]);
+            } else if (kind == 7) { /* a bad control byte for the mantissa or the exponent */
+                put_byte(&b, (r & 1) ? 0x10u | 1u : 0x09u);
+                put_byte(&b, 1);
+                put_int(&b, 0);
+            } else if (kind == 8) {
+                put_nan(&b);
+            } else { /* INT64_MIN and 2^63 as mantissas */
+                put_magnitude(&b, (uint64_t)1 << 63, (r & 1) ? 0x80 : 0);
+                put_int(&b, 0);
+            }
+        }
+        size_t cut = splitmix(&seed) % 3 ? b.n : (size_t)(splitmix(&seed) % (b.n + 1));
+        float one[16], run[16];
+        frig_ctx *c1 = frig_ctx_create(), *c2 = frig_ctx_create();
+        fr_dlib_reader r1, r2;
+        fr_dlib_reader_init(&r1, c1, "f", b.p, cut);
+        fr_dlib_reader_init(&r2, c2, "f", b.p, cut);
+        for (int i = 0; i < n; i++) one[i] = 0;
+        memcpy(run, one, sizeof run);
+        for (int i = 0; i < n && !r1.status; i++) fr_dlib_read_float(&r1, "a value", &one[i]);
+        fr_dlib_read_floats(&r2, "a value", (size_t)n, run);
+        int same = r1.status == r2.status && r1.pos == r2.pos && !strcmp(frig_ctx_errmsg(c1), frig_ctx_errmsg(c2));
+        for (int i = 0; i < n; i++) same &= memcmp(&one[i], &run[i], sizeof(float)) == 0;
+        if (!same) printf("float run %d: status %d / %d, pos %zu / %zu\n", trial, r1.status, r2.status, r1.pos, r2.pos);
+        CHECK(same);
+        frig_ctx_free(c1), frig_ctx_free(c2);
+        free(b.p);
+    }
+}
+
 /* ---- against dlib ------------------------------------------------------------------- */
 static int is_image(const char *name) {
     const char *dot = strrchr(name, '.');
@@ -471,6 +522,7 @@ static int test_against_dlib(const fr_shape_predictor *sp) {
 int main(void) {
     ctx = frig_ctx_create();
     test_synthetic();
+    test_float_runs();
     if (!test_file_exists(MODEL)) {
         frig_ctx_free(ctx);
         if (test_failures) return test_result("test_shape_predictor");

@@ -99,6 +99,40 @@ frig_status fr_dlib_read_float(fr_dlib_reader *r, const char *what, float *out) 
     return FRIG_OK;
 }
 
+/* One float's bytes at d[0..left), decoded as fr_dlib_read_float decodes them when they are
+ * well formed; 0 (and nothing stored) for anything else, which the careful reader then
+ * reports in its own words. */
+static size_t float_fast(const unsigned char *d, size_t left, float *out) {
+    if (left < 4) return 0;
+    unsigned c = d[0], n = c & 0x0Fu;
+    if ((c & 0x70u) || n == 0 || n > 8 || left < 3 + n) return 0;
+    uint64_t m = 0;
+    for (unsigned i = n; i > 0; i--) m = (m << 8) | d[i];
+    if (m >= (uint64_t)1 << 63) return 0; /* INT64_MIN and beyond: the careful path */
+    unsigned c2 = d[1 + n], n2 = c2 & 0x0Fu;
+    if (n2 == 0 || n2 > 2 || left < 2 + n + n2) return 0;
+    unsigned e = d[2 + n];
+    if (n2 == 2) e |= (unsigned)d[3 + n] << 8;
+    if (e >= 32768u) return 0;
+    int exponent = (c2 & 0x80u) ? -(int)e : (int)e;
+    if (exponent >= FR_DLIB_EXPONENT_SPECIAL) return 0;
+    int64_t mantissa = (c & 0x80u) ? -(int64_t)m : (int64_t)m;
+    float v = ldexpf((float)mantissa, exponent);
+    if (!isfinite(v)) return 0;
+    *out = v;
+    return 2 + n + n2;
+}
+
+frig_status fr_dlib_read_floats(fr_dlib_reader *r, const char *what, size_t count, float *out) {
+    for (size_t i = 0; i < count; i++) {
+        if (r->status) return r->status;
+        size_t used = r->pos < r->size ? float_fast(r->data + r->pos, r->size - r->pos, &out[i]) : 0;
+        if (used) r->pos += used;
+        else if (fr_dlib_read_float(r, what, &out[i])) return r->status;
+    }
+    return r->status;
+}
+
 frig_status fr_dlib_read_count(fr_dlib_reader *r, const char *what, size_t min_item_bytes, uint64_t max,
                                size_t *out) {
     uint64_t n;

@@ -28,6 +28,9 @@ frig_status fr_dlib_read_uint(fr_dlib_reader *r, const char *what, uint64_t *out
 frig_status fr_dlib_read_int(fr_dlib_reader *r, const char *what, int bytes, int64_t *out);
 /* A float stored as mantissa * 2^exponent; refuses infinities and NaNs (CORRUPT). */
 frig_status fr_dlib_read_float(fr_dlib_reader *r, const char *what, float *out);
+/* 'count' floats in a row (a matrix's values): the same values and errors as as many
+ * fr_dlib_read_float calls, decoded in one tight loop. */
+frig_status fr_dlib_read_floats(fr_dlib_reader *r, const char *what, size_t count, float *out);
 /* A std::vector's element count, refused when the bytes left cannot hold that many elements
  * of at least min_item_bytes each (TRUNCATED), or when it exceeds 'max' (CORRUPT). */
 frig_status fr_dlib_read_count(fr_dlib_reader *r, const char *what, size_t min_item_bytes, uint64_t max,

@@ -9,7 +9,7 @@
 #include "core/context.h"
 #include "detect/dlib_deserialize.h"
 #include "detect/shape_predictor.h"
-#include "io/file.h"
+#include "io/file_map.h"
 
 #define FR_SP_MAX_FILE ((size_t)1 << 31)
 
@@ -22,6 +22,7 @@ typedef struct sp_builder {
     size_t splits, split_cap;
     size_t leaves, leaf_cap;               /* in leaves of 'coords' floats */
     size_t features, feature_cap;
+    size_t trees_expected;                 /* cascades x the first cascade's trees */
 } sp_builder;
 
 /* Make room for 'need' elements of 'elem' bytes in *p (capacity *cap, grown by half). */
@@ -36,6 +37,16 @@ static int reserve(void **p, size_t *cap, size_t need, size_t elem) {
     *p = q;
     *cap = n;
     return 1;
+}
+
+/* The first tree sizes the arrays for all: its count times the trees expected, but never more
+ * than the bytes left in the file could hold (item_bytes each, at their smallest). One
+ * allocation for a file like dlib's instead of a growing copy of 65 MB. */
+static size_t first_need(const sp_builder *b, size_t cap, size_t need, size_t per_tree, size_t item_bytes) {
+    if (cap || b->trees_expected < 2 || !per_tree) return need;
+    size_t left = (b->r.size - b->r.pos) / item_bytes;
+    size_t guess = per_tree > left / b->trees_expected ? left : per_tree * b->trees_expected;
+    return guess > need ? guess : need;
 }
 
 static frig_status nomem(sp_builder *b) {
@@ -66,8 +77,7 @@ static frig_status read_initial_shape(sp_builder *b) {
     sp->initial_shape = malloc(rows * sizeof *sp->initial_shape);
     sp->initial_centred = malloc(rows * sizeof *sp->initial_centred);
     if (!sp->initial_shape || !sp->initial_centred) return nomem(b);
-    for (size_t i = 0; i < rows; i++)
-        if (fr_dlib_read_float(r, "the initial shape", &sp->initial_shape[i])) return r->status;
+    if (fr_dlib_read_floats(r, "the initial shape", rows, sp->initial_shape)) return r->status;
     /* Centroid and spread of the initial shape, for the per-cascade similarity fit. */
     double mx = 0, my = 0, ss = 0;
     for (int i = 0; i < sp->parts; i++) {
@@ -97,7 +107,9 @@ static frig_status read_tree(sp_builder *b) {
     size_t n_splits, n_leaves;
     if (fr_dlib_read_count(r, "a tree's splits", 8, ((size_t)1 << FR_SP_MAX_TREE_DEPTH) - 1, &n_splits))
         return r->status;
-    if (!reserve((void **)&sp->splits, &b->split_cap, b->splits + n_splits, sizeof *sp->splits)) return nomem(b);
+    if (!reserve((void **)&sp->splits, &b->split_cap, first_need(b, b->split_cap, b->splits + n_splits, n_splits, 8),
+                 sizeof *sp->splits))
+        return nomem(b);
     for (size_t i = 0; i < n_splits; i++) {
         uint64_t i1, i2;
         float thresh;
@@ -117,7 +129,8 @@ static frig_status read_tree(sp_builder *b) {
     if (n_leaves != n_splits + 1 || (n_leaves & (n_leaves - 1)))
         return fr_dlib_corrupt(r, "a tree with %zu splits has %zu leaves (a full binary tree has splits + 1, a power of 2)",
                                n_splits, n_leaves);
-    if (!reserve((void **)&sp->leaves, &b->leaf_cap, b->leaves + n_leaves, b->coords * sizeof *sp->leaves))
+    size_t need = first_need(b, b->leaf_cap, b->leaves + n_leaves, n_leaves, leaf_bytes);
+    if (!reserve((void **)&sp->leaves, &b->leaf_cap, need, b->coords * sizeof *sp->leaves))
         return nomem(b);
     for (size_t l = 0; l < n_leaves; l++) {
         size_t rows;
@@ -125,8 +138,7 @@ static frig_status read_tree(sp_builder *b) {
         if (rows != b->coords)
             return fr_dlib_corrupt(r, "a leaf has %zu values, the shape %zu", rows, b->coords);
         float *leaf = sp->leaves + (b->leaves + l) * b->coords;
-        for (size_t k = 0; k < rows; k++)
-            if (fr_dlib_read_float(r, "a leaf value", &leaf[k])) return r->status;
+        if (fr_dlib_read_floats(r, "a leaf value", rows, leaf)) return r->status;
     }
     b->splits += n_splits;
     b->leaves += n_leaves;
@@ -150,6 +162,7 @@ static frig_status read_forests(sp_builder *b) {
     for (size_t c = 0; c < n; c++) {
         size_t trees;
         if (fr_dlib_read_count(r, "a cascade's tree count", 4, FR_SP_MAX_TREES, &trees)) return r->status;
+        if (c == 0) b->trees_expected = n * trees;
         for (size_t t = 0; t < trees; t++)
             if (read_tree(b)) return at_tree(b, c, t);
         sp->tree_begin[c + 1] = b->trees;
@@ -191,8 +204,7 @@ static frig_status read_features(sp_builder *b) {
         if (fr_dlib_read_count(r, "a cascade's deltas", 8, FR_SP_MAX_FEATURES, &count)) return r->status;
         if (count != want) return fr_dlib_corrupt(r, "cascade %zu: %zu deltas for %zu anchors", c, count, want);
         float *d = sp->delta + 2 * sp->feature_begin[c];
-        for (size_t i = 0; i < 2 * count; i++)
-            if (fr_dlib_read_float(r, "a delta", &d[i])) return r->status;
+        if (fr_dlib_read_floats(r, "a delta", 2 * count, d)) return r->status;
     }
     return FRIG_OK;
 }
@@ -247,12 +259,11 @@ frig_status fr_shape_predictor_load(frig_ctx *ctx, const char *path, fr_shape_pr
     if (!out) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "fr_shape_predictor_load: no output pointer");
     *out = NULL;
     if (!path) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "fr_shape_predictor_load: no path");
-    unsigned char *data;
-    size_t size;
-    frig_status st = fr_read_file(ctx, path, FR_SP_MAX_FILE, &data, &size);
+    fr_file_map map;
+    frig_status st = fr_file_map_open(ctx, path, FR_SP_MAX_FILE, &map);
     if (st) return st;
-    st = fr_shape_predictor_parse(ctx, path, data, size, out);
-    free(data);
+    st = fr_shape_predictor_parse(ctx, path, map.data, map.size, out);
+    fr_file_map_close(&map);
     return st;
 }
 

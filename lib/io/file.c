@@ -1,5 +1,6 @@
 /* Whole-file reads, atomic writes, folders. */
 #include <errno.h>
+#include <fcntl.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -8,25 +9,41 @@
 #include "core/context.h"
 #include "io/file.h"
 
-frig_status fr_read_file(frig_ctx *ctx, const char *path, size_t max_size, unsigned char **data, size_t *size) {
-    *data = NULL;
+frig_status fr_open_regular(frig_ctx *ctx, const char *path, size_t max_size, int *fd_out, size_t *size) {
+    *fd_out = -1;
     *size = 0;
-    FILE *fp = fopen(path, "rb");
-    if (!fp) {
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
         if (errno == ENOENT) return fr_error(ctx, FRIG_ERR_NOT_FOUND, "%s: no such file", path);
         return fr_error(ctx, FRIG_ERR_IO, "%s: cannot open (%s)", path, strerror(errno));
     }
     struct stat st;
-    if (fstat(fileno(fp), &st) != 0 || !S_ISREG(st.st_mode)) {
-        fclose(fp);
+    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+        close(fd);
         return fr_error(ctx, FRIG_ERR_IO, "%s: not a regular file", path);
     }
     if ((unsigned long long)st.st_size > max_size) {
-        fclose(fp);
+        close(fd);
         return fr_error(ctx, FRIG_ERR_TOO_LARGE, "%s: file of %lld bytes is over the limit of %zu", path,
                         (long long)st.st_size, max_size);
     }
-    size_t n = (size_t)st.st_size;
+    *fd_out = fd;
+    *size = (size_t)st.st_size;
+    return FRIG_OK;
+}
+
+frig_status fr_read_file(frig_ctx *ctx, const char *path, size_t max_size, unsigned char **data, size_t *size) {
+    *data = NULL;
+    *size = 0;
+    int fd;
+    size_t n;
+    frig_status s = fr_open_regular(ctx, path, max_size, &fd, &n);
+    if (s) return s;
+    FILE *fp = fdopen(fd, "rb");
+    if (!fp) {
+        close(fd);
+        return fr_error(ctx, FRIG_ERR_IO, "%s: cannot open (%s)", path, strerror(errno));
+    }
     unsigned char *buf = malloc(n ? n : 1);
     if (!buf) {
         fclose(fp);

@@ -10,6 +10,10 @@
 /* Read a whole file. Statuses: NOT_FOUND, IO, TOO_LARGE (over max_size), NO_MEMORY. */
 frig_status fr_read_file(frig_ctx *ctx, const char *path, size_t max_size, unsigned char **data, size_t *size);
 
+/* Open a regular file for reading and give its size: the checks fr_read_file makes, for
+ * readers of another kind (file_map.c). The caller closes *fd. */
+frig_status fr_open_regular(frig_ctx *ctx, const char *path, size_t max_size, int *fd, size_t *size);
+
 /* Write 'size' bytes to 'path' atomically. */
 frig_status fr_write_file_atomic(frig_ctx *ctx, const char *path, const void *data, size_t size);
 
