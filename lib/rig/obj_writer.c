@@ -33,16 +33,45 @@ static void write_faces(const fr_topology *t, const fr_rig_look *look, fr_buffer
     }
 }
 
-static frig_status write_shape(frig_ctx *ctx, const char *dir, const char *name, const frig_rig *rig,
-                               const float *delta, const fr_buffer *faces) {
-    fr_buffer b = {0};
-    fr_buffer_printf(&b, "# libfrig %s: %s (metres)\nmtllib %s\n", frig_version_string(), name, MTL_NAME);
+/* The neutral's "v" lines, and where each vertex's line starts (vertex_count + 1 offsets). */
+typedef struct neutral_lines {
+    fr_buffer text;
+    size_t *start;
+} neutral_lines;
+
+static int neutral_lines_make(const frig_rig *rig, neutral_lines *nl) {
+    const float *n = rig->neutral;
+    nl->text = (fr_buffer){0};
+    nl->start = malloc(sizeof(size_t) * ((size_t)rig->topo.vertex_count + 1));
+    if (!nl->start) return 0;
+    for (int i = 0; i < rig->topo.vertex_count; i++) {
+        nl->start[i] = nl->text.size;
+        fr_buffer_printf(&nl->text, "v %.7g %.7g %.7g\n", n[3 * i], n[3 * i + 1], n[3 * i + 2]);
+    }
+    nl->start[rig->topo.vertex_count] = nl->text.size;
+    return !nl->text.failed;
+}
+
+/* A shape's vertex lines: where the sum neutral + delta is the neutral's float bit for bit
+ * (most vertices of most shapes), the neutral's line is copied instead of printed again. */
+static void vertex_lines(const frig_rig *rig, const float *delta, const neutral_lines *nl, fr_buffer *b) {
     const float *n = rig->neutral;
     for (int i = 0; i < rig->topo.vertex_count; i++) {
-        const float *d = delta ? delta + 3 * i : NULL;
-        fr_buffer_printf(&b, "v %.7g %.7g %.7g\n", d ? n[3 * i] + d[0] : n[3 * i], d ? n[3 * i + 1] + d[1] : n[3 * i + 1],
-                         d ? n[3 * i + 2] + d[2] : n[3 * i + 2]);
+        const float *v = n + 3 * i, *d = delta + 3 * i;
+        float x[3] = {v[0] + d[0], v[1] + d[1], v[2] + d[2]};
+        if (!memcmp(x, v, sizeof x))
+            fr_buffer_append(b, nl->text.data + nl->start[i], nl->start[i + 1] - nl->start[i]);
+        else
+            fr_buffer_printf(b, "v %.7g %.7g %.7g\n", x[0], x[1], x[2]);
     }
+}
+
+static frig_status write_shape(frig_ctx *ctx, const char *dir, const char *name, const frig_rig *rig,
+                               const float *delta, const neutral_lines *nl, const fr_buffer *faces) {
+    fr_buffer b = {0};
+    fr_buffer_printf(&b, "# libfrig %s: %s (metres)\nmtllib %s\n", frig_version_string(), name, MTL_NAME);
+    if (delta) vertex_lines(rig, delta, nl, &b);
+    else fr_buffer_append(&b, nl->text.data, nl->text.size);
     fr_buffer_append(&b, faces->data, faces->size);
     char file[96];
     snprintf(file, sizeof file, "%s.obj", name);
@@ -112,9 +141,10 @@ frig_status frig_rig_save_obj(frig_ctx *ctx, const frig_rig *rig, const char *di
     }
     fr_buffer faces = {0};
     write_faces(&rig->topo, &look, &faces);
-    if (faces.failed) s = fr_nomem(ctx, "OBJ faces");
+    neutral_lines nl;
+    if (!neutral_lines_make(rig, &nl) || faces.failed) s = fr_nomem(ctx, "OBJ lines");
     if (!s) s = write_mtl(ctx, dir, &rig->topo, &look);
-    if (!s) s = write_shape(ctx, dir, "neutral", rig, NULL, &faces);
+    if (!s) s = write_shape(ctx, dir, "neutral", rig, NULL, &nl, &faces);
     size_t n3 = 3 * (size_t)rig->topo.vertex_count;
     /* Files are independent: write them in parallel, keep the first failure in order. */
     frig_status *st = calloc((size_t)shapes.count + 1, sizeof *st);
@@ -122,10 +152,12 @@ frig_status frig_rig_save_obj(frig_ctx *ctx, const frig_rig *rig, const char *di
     if (!s) {
 #pragma omp parallel for schedule(dynamic) num_threads(fr_threads(ctx))
         for (int k = 0; k < shapes.count; k++)
-            st[k] = write_shape(ctx, dir, shapes.names[k], rig, shapes.deltas + n3 * (size_t)k, &faces);
+            st[k] = write_shape(ctx, dir, shapes.names[k], rig, shapes.deltas + n3 * (size_t)k, &nl, &faces);
         for (int k = 0; k < shapes.count && !s; k++) s = st[k];
     }
     free(st);
+    free(nl.start);
+    fr_buffer_free(&nl.text);
     fr_buffer_free(&faces);
     fr_export_shapes_free(&shapes);
     fr_rig_look_free(&look);
