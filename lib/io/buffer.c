@@ -11,6 +11,17 @@ void fr_buffer_free(fr_buffer *b) {
     memset(b, 0, sizeof *b);
 }
 
+void fr_buffer_reserve(fr_buffer *b, size_t n) {
+    if (b->failed || n <= b->capacity) return;
+    unsigned char *d = realloc(b->data, n);
+    if (!d) {
+        b->failed = 1;
+        return;
+    }
+    b->data = d;
+    b->capacity = n;
+}
+
 unsigned char *fr_buffer_extend(fr_buffer *b, size_t n) {
     if (b->failed) return NULL;
     if (b->size + n > b->capacity) {

@@ -14,6 +14,8 @@ typedef struct fr_buffer {
 } fr_buffer;
 
 void fr_buffer_free(fr_buffer *b);
+/* Make the capacity at least n bytes at once (a size known ahead: no growing copies). */
+void fr_buffer_reserve(fr_buffer *b, size_t n);
 /* Make room for n more bytes; returns a pointer to them (NULL once failed). Size grows by n. */
 unsigned char *fr_buffer_extend(fr_buffer *b, size_t n);
 void fr_buffer_append(fr_buffer *b, const void *data, size_t n);

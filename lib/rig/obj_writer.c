@@ -69,6 +69,8 @@ static void vertex_lines(const frig_rig *rig, const float *delta, const neutral_
 static frig_status write_shape(frig_ctx *ctx, const char *dir, const char *name, const frig_rig *rig,
                                const float *delta, const neutral_lines *nl, const fr_buffer *faces) {
     fr_buffer b = {0};
+    /* the neutral's size, and a tenth more for lines printed with other digits */
+    fr_buffer_reserve(&b, 256 + nl->text.size + (delta ? nl->text.size / 10 : 0) + faces->size);
     fr_buffer_printf(&b, "# libfrig %s: %s (metres)\nmtllib %s\n", frig_version_string(), name, MTL_NAME);
     if (delta) vertex_lines(rig, delta, nl, &b);
     else fr_buffer_append(&b, nl->text.data, nl->text.size);
