@@ -234,6 +234,7 @@ typedef struct scene {
     frig_photoset *set;
     frig_synth_truth *truth[16];
     int photos;
+    int shared; /* the truths belong to the rendered scene (scene_in's copies) */
 } scene;
 
 /* Photos of subject 'seed' written to dir, a photo set with the true poses, cameras and
@@ -280,7 +281,7 @@ static int make_scene(frig_model *model, const char *dir, scene *sc) {
 }
 
 static void free_scene(scene *sc) {
-    for (int p = 0; p < sc->photos; p++) frig_synth_truth_free(sc->truth[p]);
+    for (int p = 0; p < sc->photos && !sc->shared; p++) frig_synth_truth_free(sc->truth[p]);
     frig_rig_free(sc->truth_rig), frig_rig_free(sc->rig), frig_photoset_free(sc->set);
 }
 
@@ -312,19 +313,42 @@ static double cloud_error(const scene *sc, const frig_clouds *cl, int p) {
     return 1e3 * mean;
 }
 
-/* The scene in a temporary folder 'name'; 0 (skipped) without the model. */
-static int scene_in(const char *name, scene *sc, const char **dir) {
+/* The scene is rendered once (photos in sfs_scene/, the photo set saved there) and each test
+ * takes a copy of it: the rigs cloned, the photo set loaded afresh (each test changes its fits),
+ * the truths shared. */
+static scene rendered;
+static const char *rendered_dir; /* NULL until rendered, then rendered_path */
+static char rendered_path[4096];
+
+/* 1 rendered, 0 failed, -1 without the model */
+static int render_once(void) {
+    if (rendered_dir) return 1;
     frig_model *model = fixture_model(ctx);
-    if (!model) {
-        test_skip("the ICT model is not available");
-        return 0;
-    }
+    if (!model) return -1;
     frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_IMAGE_SIZE, 256);
     frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_RIG_OBJ, 0);
-    *dir = test_temp_dir(name);
-    CHECK(make_scene(model, *dir, sc));
+    const char *dir = test_temp_dir("sfs_scene");
+    int ok = make_scene(model, dir, &rendered) && frig_photoset_save(ctx, rendered.set, dir) == FRIG_OK;
+    CHECK(ok);
     frig_model_free(model);
-    return 1;
+    if (ok) snprintf(rendered_path, sizeof rendered_path, "%s", dir), rendered_dir = rendered_path;
+    return ok;
+}
+
+/* A copy of the scene, outputs in a temporary folder 'name'; 0 (skipped) without the model. */
+static int scene_in(const char *name, scene *sc, const char **dir) {
+    memset(sc, 0, sizeof *sc);
+    int r = render_once();
+    if (r < 0) test_skip("the ICT model is not available");
+    if (r <= 0) return 0;
+    *dir = test_temp_dir(name);
+    *sc = rendered;
+    sc->shared = 1, sc->rig = NULL, sc->truth_rig = NULL, sc->set = NULL;
+    int ok = frig_rig_clone(ctx, rendered.rig, &sc->rig) == FRIG_OK &&
+             frig_rig_clone(ctx, rendered.truth_rig, &sc->truth_rig) == FRIG_OK &&
+             frig_photoset_load(ctx, rendered_dir, &sc->set) == FRIG_OK;
+    CHECK(ok);
+    return ok;
 }
 
 /* The outer loop's deferred texture (fr_sfs_stage_keep, then fr_sfs_run_albedo, as
@@ -679,6 +703,7 @@ int main(void) {
     test_pose_align();
     test_expression();
     test_identity();
+    if (rendered_dir) free_scene(&rendered);
     frig_ctx_free(ctx);
     return test_result("test_sfs");
 }
