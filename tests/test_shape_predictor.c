@@ -309,13 +309,11 @@ static void test_float_runs(void) {
             }
         }
         size_t cut = splitmix(&seed) % 3 ? b.n : (size_t)(splitmix(&seed) % (b.n + 1));
-        float one[16], run[16];
+        float one[16] = {0}, run[16] = {0};
         frig_ctx *c1 = frig_ctx_create(), *c2 = frig_ctx_create();
         fr_dlib_reader r1, r2;
         fr_dlib_reader_init(&r1, c1, "f", b.p, cut);
         fr_dlib_reader_init(&r2, c2, "f", b.p, cut);
-        for (int i = 0; i < n; i++) one[i] = 0;
-        memcpy(run, one, sizeof run);
         for (int i = 0; i < n && !r1.status; i++) fr_dlib_read_float(&r1, "a value", &one[i]);
         fr_dlib_read_floats(&r2, "a value", (size_t)n, run);
         int same = r1.status == r2.status && r1.pos == r2.pos && !strcmp(frig_ctx_errmsg(c1), frig_ctx_errmsg(c2));
