@@ -3,7 +3,8 @@
  * share edges (perspective and integer-exact weak grids), depth and perspective-correct
  * barycentrics against ray-plane intersection, near-plane clipping of a triangle with a corner
  * behind the camera against ray-triangle intersection, a sphere's depth and normals against
- * the analytic sphere, vertex visibility, culling, ids and argument checks. */
+ * the analytic sphere, vertex visibility, culling, ids and argument checks; the renderer against
+ * drawing triangle by triangle, and the normals at chosen vertices against the whole mesh's. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -477,6 +478,88 @@ static void test_occlusion_and_rules(void) {
     fr_raster_free(r);
 }
 
+/* The renderer (vertices projected once, rows clipped to the edges' spans) draws the same pixels as
+ * every triangle set up alone by fr_raster_tri_setup and sampled by fr_raster_tri_sample in order
+ * (depth, ids and barycentrics bit for bit), on random triangles of every size and facing, partly
+ * off the raster, behind the near plane, edge-on and degenerate, culling on and off. */
+static void test_render_per_triangle(void) {
+    const int w = 96, h = 80, nt = 3000, nv = 3 * nt;
+    fr_camera cam = fr_camera_perspective(120.0, w, h);
+    float *xyz = malloc(sizeof(float) * 3 * nv);
+    int32_t *tris = malloc(sizeof(int32_t) * 3 * nt);
+    for (int k = 0; k < nt; k++) {
+        double c[3] = {uniform(-0.6, 0.6), uniform(-0.5, 0.5), uniform(0.3, 1.5)}, size = pow(10.0, uniform(-4, -0.5));
+        int kind = k % 10;
+        for (int i = 0; i < 3; i++) {
+            float *q = xyz + 3 * (3 * k + i);
+            for (int d = 0; d < 3; d++) q[d] = (float)(c[d] + size * uniform(-1, 1));
+            if (kind == 7 && i == 2) q[2] = -0.1f;                                  /* a corner behind the camera */
+            if (kind == 8) q[0] = (float)c[0], q[1] = (float)(c[1] + 0.01 * i);     /* edge-on: a vertical segment */
+            if (kind == 9 && i == 2) memcpy(q, xyz + 3 * (3 * k), sizeof(float) * 3); /* two corners at one point */
+        }
+        for (int i = 0; i < 3; i++) tris[3 * k + i] = 3 * k + i;
+    }
+    fr_raster *r;
+    CHECK(fr_raster_create(ctx, w, h, &r) == FRIG_OK);
+    float *depth = malloc(sizeof(float) * w * h), *bary = malloc(sizeof(float) * 3 * w * h);
+    int32_t *id = malloc(sizeof(int32_t) * w * h);
+    for (int cull = 0; cull <= 1; cull++) {
+        fr_raster_options opt = {FR_RASTER_DEFAULT_NEAR, cull};
+        CHECK(fr_raster_render(ctx, r, &cam, xyz, nv, tris, nt, &opt) == FRIG_OK);
+        for (int i = 0; i < w * h; i++) depth[i] = INFINITY, id[i] = -1;
+        memset(bary, 0, sizeof(float) * 3 * w * h);
+        int set_up = 0;
+        for (int k = 0; k < nt; k++) {
+            const int32_t *tr = tris + 3 * k;
+            fr_raster_tri t;
+            if (!fr_raster_tri_setup(&cam, xyz + 3 * tr[0], xyz + 3 * tr[1], xyz + 3 * tr[2], &opt, w, h, &t)) continue;
+            set_up++;
+            for (int y = t.y0; y <= t.y1; y++)
+                for (int x = t.x0; x <= t.x1; x++) {
+                    double z, b[3];
+                    if (!fr_raster_tri_sample(&t, x, y, &z, b) || !((float)z < depth[y * w + x])) continue;
+                    depth[y * w + x] = (float)z, id[y * w + x] = k;
+                    for (int c = 0; c < 3; c++) bary[3 * (y * w + x) + c] = (float)b[c];
+                }
+        }
+        int differ = 0, covered = 0;
+        for (int i = 0; i < w * h; i++) {
+            differ += memcmp(&depth[i], &r->depth[i], sizeof(float)) != 0 || id[i] != r->tri[i] ||
+                      memcmp(bary + 3 * i, r->bary + 3 * i, 3 * sizeof(float)) != 0;
+            covered += id[i] >= 0;
+        }
+        printf("triangle by triangle (cull %d): %d of %d set up, %d pixels covered, %d differ\n", cull, set_up, nt,
+               covered, differ);
+        CHECK(covered > w * h / 2);
+        CHECK(differ == 0);
+    }
+    /* the normals at chosen vertices from the triangles that use them: the whole mesh's floats there */
+    fr_shape s;
+    const double c[3] = {0.0, 0.0, 0.5};
+    CHECK(fr_shape_sphere(ctx, c, 0.1, 64, 32, &s) == FRIG_OK);
+    uint8_t *want = calloc((size_t)s.nv, 1);
+    int32_t *list = malloc(sizeof(int32_t) * s.nt);
+    float *all = malloc(sizeof(float) * 3 * s.nv), *some = malloc(sizeof(float) * 3 * s.nv);
+    for (int i = 0; i < s.nv; i++) want[i] = uniform(0, 1) < 0.3;
+    int nl = 0;
+    for (int k = 0; k < s.nt; k++)
+        if (want[s.tris[3 * k]] || want[s.tris[3 * k + 1]] || want[s.tris[3 * k + 2]]) list[nl++] = k;
+    fr_mesh_vertex_normals(s.xyz, s.nv, s.tris, s.nt, all);
+    fr_mesh_vertex_normals_at(s.xyz, s.nv, s.tris, list, nl, want, some);
+    int bad = 0, wanted = 0;
+    for (int i = 0; i < s.nv; i++) {
+        wanted += want[i];
+        if (want[i]) bad += memcmp(all + 3 * i, some + 3 * i, 3 * sizeof(float)) != 0;
+        else bad += some[3 * i] != 0 || some[3 * i + 1] != 0 || some[3 * i + 2] != 0;
+    }
+    printf("normals at %d of %d vertices from %d of %d triangles: %d differ\n", wanted, s.nv, nl, s.nt, bad);
+    CHECK(wanted > 0 && nl < s.nt && bad == 0);
+    free(want), free(list), free(all), free(some);
+    fr_shape_free(&s);
+    free(depth), free(bary), free(id), free(xyz), free(tris);
+    fr_raster_free(r);
+}
+
 int main(void) {
     ctx = frig_ctx_create();
     if (!ctx) return 1;
@@ -486,6 +569,7 @@ int main(void) {
     test_near_clipping();
     test_sphere();
     test_occlusion_and_rules();
+    test_render_per_triangle();
     frig_ctx_free(ctx);
     return test_result("test_raster");
 }

@@ -158,6 +158,7 @@ typedef enum frig_param {
     FRIG_PARAM_FIT_MEAN_SIZE = 450,         /* 1: fit's and retarget's identity keep the mean face's size (default 1; docs/fit.md) */
     FRIG_PARAM_FIT_OUTLINE_ITERATIONS = 451, /* steps of identity and poses from the photos' outlines (default 8; 0: off) */
     FRIG_PARAM_FIT_OUTLINE_PRIOR = 452,      /* the identity's prior against an outline pixel's error (default 100) */
+    FRIG_PARAM_FIT_W_FOCAL = 453,            /* prior log(f / f0)^2 of the focal length (default 10) */
 
     /* synthetic ground truth */
     FRIG_PARAM_SYNTH_MAX_YAW = 500,         /* degrees (default 60) */

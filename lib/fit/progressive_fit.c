@@ -29,7 +29,7 @@ void fr_fit_settings_from_ctx(const frig_ctx *ctx, fr_fit_settings *s) {
     s->start.id = fr_param(ctx, FRIG_PARAM_FIT_W_ID);
     s->start.exp = fr_param(ctx, FRIG_PARAM_FIT_W_EXP);
     s->start.sparse = fr_param(ctx, FRIG_PARAM_FIT_W_SPARSE);
-    s->start.focal = 10;
+    s->start.focal = fr_param(ctx, FRIG_PARAM_FIT_W_FOCAL);
     /* "Their values decrease gradually in the optimization process": to a half. */
     s->end.id = s->start.id / 2;
     s->end.exp = s->start.exp / 2;

@@ -334,23 +334,35 @@ void fr_raster_normal_map(const fr_raster *r, const int32_t *tris, const float *
     }
 }
 
+/* Triangle tr's cross product (area-weighted normal) added to its corners' sums. */
+static void add_face_normal(const float *xyz, const int32_t *tr, float *normals) {
+    const float *a = xyz + 3 * (size_t)tr[0], *b = xyz + 3 * (size_t)tr[1], *c = xyz + 3 * (size_t)tr[2];
+    double e1[3] = {(double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2]};
+    double e2[3] = {(double)c[0] - a[0], (double)c[1] - a[1], (double)c[2] - a[2]};
+    double n[3];
+    cross3(e1, e2, n);
+    for (int j = 0; j < 3; j++)
+        for (int d = 0; d < 3; d++) normals[3 * (size_t)tr[j] + d] += (float)n[d];
+}
+
+static void normalize_sum(float *n) {
+    double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
+    for (int d = 0; d < 3; d++) n[d] = len > 0.0 ? (float)(n[d] / len) : 0.0f;
+}
+
 void fr_mesh_vertex_normals(const float *xyz, int nv, const int32_t *tris, int nt, float *normals) {
     for (size_t i = 0; i < 3 * (size_t)nv; i++) normals[i] = 0.0f;
-    for (int k = 0; k < nt; k++) {
-        const int32_t *tr = tris + 3 * (size_t)k;
-        const float *a = xyz + 3 * (size_t)tr[0], *b = xyz + 3 * (size_t)tr[1], *c = xyz + 3 * (size_t)tr[2];
-        double e1[3] = {(double)b[0] - a[0], (double)b[1] - a[1], (double)b[2] - a[2]};
-        double e2[3] = {(double)c[0] - a[0], (double)c[1] - a[1], (double)c[2] - a[2]};
-        double n[3];
-        cross3(e1, e2, n);
-        for (int j = 0; j < 3; j++)
-            for (int d = 0; d < 3; d++) normals[3 * (size_t)tr[j] + d] += (float)n[d];
-    }
-    for (int i = 0; i < nv; i++) {
-        float *n = normals + 3 * (size_t)i;
-        double len = sqrt((double)n[0] * n[0] + (double)n[1] * n[1] + (double)n[2] * n[2]);
-        for (int d = 0; d < 3; d++) n[d] = len > 0.0 ? (float)(n[d] / len) : 0.0f;
-    }
+    for (int k = 0; k < nt; k++) add_face_normal(xyz, tris + 3 * (size_t)k, normals);
+    for (int i = 0; i < nv; i++) normalize_sum(normals + 3 * (size_t)i);
+}
+
+void fr_mesh_vertex_normals_at(const float *xyz, int nv, const int32_t *tris, const int32_t *list, int nlist,
+                               const uint8_t *want, float *normals) {
+    for (size_t i = 0; i < 3 * (size_t)nv; i++) normals[i] = 0.0f;
+    for (int j = 0; j < nlist; j++) add_face_normal(xyz, tris + 3 * (size_t)list[j], normals);
+    for (int i = 0; i < nv; i++)
+        if (want[i]) normalize_sum(normals + 3 * (size_t)i);
+        else normals[3 * (size_t)i] = normals[3 * (size_t)i + 1] = normals[3 * (size_t)i + 2] = 0.0f;
 }
 
 /* Camera z where the ray through image point (u, v) meets the plane of triangle tr; NAN when

@@ -83,6 +83,11 @@ void fr_raster_normal_map(const fr_raster *r, const int32_t *tris, const float *
 /* Area-weighted vertex normals (sum of the adjacent faces' cross products, normalized),
  * outward for counter-clockwise (OBJ) winding; (0, 0, 0) for unused vertices. */
 void fr_mesh_vertex_normals(const float *xyz, int nv, const int32_t *tris, int nt, float *normals);
+/* The same at the vertices marked in want only (0, 0, 0 elsewhere), from the triangles listed (indices
+ * into tris, ascending), which must hold every triangle that uses a wanted vertex: then each wanted
+ * vertex sums the same terms in the same order as fr_mesh_vertex_normals, and gets the same floats. */
+void fr_mesh_vertex_normals_at(const float *xyz, int nv, const int32_t *tris, const int32_t *list, int nlist,
+                               const uint8_t *want, float *normals);
 
 /* visible[i] = 1 when camera-space vertex i projects inside the image, the pixel nearest to
  * it is covered, and either the triangle drawn there uses vertex i or the vertex is at most

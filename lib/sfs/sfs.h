@@ -80,6 +80,9 @@ typedef struct fr_sfs_mesh {
     uint8_t *core;    /* per drawn triangle: a face triangle of the narrow face (no neck, ears, scalp) */
     const float *uvs; /* 2 per uv index */
     uint8_t *face_vertex; /* per vertex: used by a face triangle */
+    int32_t *near_face;   /* the drawn triangles that use a face vertex, ascending (the only ones whose
+                           * normals the stage reads: fr_sfs_mesh_normals) */
+    int n_near_face;
     float *ident;     /* NULL, or per vertex an identity change (3 nv, metres) added to the rig wherever it is
                        * evaluated (the shared solve's identity modes; owned, freed with the mesh) */
 } fr_sfs_mesh;
@@ -89,6 +92,10 @@ void fr_sfs_mesh_free(fr_sfs_mesh *m);
 /* The rig at weights (one per rig shape; only non-zero weights are summed, in double, so the
  * result does not depend on BLAS), plus m->ident when there is one, 3 floats per vertex. */
 void fr_sfs_mesh_eval(const fr_sfs_mesh *m, const double *weights, float *xyz);
+/* Vertex normals of the posed rig xyz (fr_mesh_vertex_normals) at the face vertices, which are all the
+ * stage reads (face triangles' corners): the same floats there, (0, 0, 0) elsewhere, for about a third
+ * of the work. */
+void fr_sfs_mesh_normals(const fr_sfs_mesh *m, const float *xyz, float *normals);
 
 /* ---- one photo's view ---- */
 typedef struct fr_sfs_view {

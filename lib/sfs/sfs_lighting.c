@@ -35,31 +35,35 @@ void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[
     }
 }
 
-/* Per channel the weighted moments M = sum w a^2 Y Y^T and b = sum w a I Y. */
+/* Per channel the weighted moments M = sum w a^2 Y Y^T and b = sum w a I Y. The lower triangle is
+ * summed packed (45 running sums per channel, each over the pixels in order: the compiler keeps
+ * them in vector registers), then unpacked. */
 static void moments(int n, const uint8_t *mask, const float *I, const float *albedo, const float *normals,
                     const float *wt, const float *robust, double M[3][FR_SH_COUNT * FR_SH_COUNT],
                     double b[3][FR_SH_COUNT]) {
-    memset(M, 0, sizeof(double) * 3 * FR_SH_COUNT * FR_SH_COUNT), memset(b, 0, sizeof(double) * 3 * FR_SH_COUNT);
+    enum { NL = FR_SH_COUNT * (FR_SH_COUNT + 1) / 2 };
+    double L[3][NL], B[3][FR_SH_COUNT];
+    memset(L, 0, sizeof L), memset(B, 0, sizeof B);
     for (int i = 0; i < n; i++) {
         if (mask && !mask[i]) continue;
         double w = (wt ? wt[i] : 1.0) * (robust ? robust[i] : 1.0);
         if (!(w > 0)) continue;
         double nd[3] = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]}, y[FR_SH_COUNT];
-        double yy[FR_SH_COUNT * (FR_SH_COUNT + 1) / 2]; /* the lower triangle of y y^T, shared by the channels */
+        double yy[NL]; /* the lower triangle of y y^T, shared by the channels */
         fr_sh_basis(nd, y);
         for (int k = 0, h = 0; k < FR_SH_COUNT; k++)
             for (int l = 0; l <= k; l++, h++) yy[h] = y[k] * y[l];
         for (int c = 0; c < 3; c++) {
             double a = albedo[3 * i + c], wa2 = w * a * a, wai = w * a * I[3 * i + c];
-            for (int k = 0, h = 0; k < FR_SH_COUNT; k++) {
-                b[c][k] += wai * y[k];
-                for (int l = 0; l <= k; l++, h++) M[c][k * FR_SH_COUNT + l] += wa2 * yy[h];
-            }
+            for (int k = 0; k < FR_SH_COUNT; k++) B[c][k] += wai * y[k];
+            for (int h = 0; h < NL; h++) L[c][h] += wa2 * yy[h];
         }
     }
     for (int c = 0; c < 3; c++)
-        for (int k = 0; k < FR_SH_COUNT; k++)
-            for (int l = 0; l < k; l++) M[c][l * FR_SH_COUNT + k] = M[c][k * FR_SH_COUNT + l];
+        for (int k = 0, h = 0; k < FR_SH_COUNT; k++) {
+            b[c][k] = B[c][k];
+            for (int l = 0; l <= k; l++, h++) M[c][k * FR_SH_COUNT + l] = M[c][l * FR_SH_COUNT + k] = L[c][h];
+        }
 }
 
 static double quad(const double *M, const double *u, const double *v) {

@@ -7,6 +7,7 @@
 
 #include "core/context.h"
 #include "model/mode_sums.h"
+#include "raster/raster.h"
 #include "rig/rig.h"
 #include "sfs/sfs.h"
 
@@ -44,6 +45,15 @@ frig_status fr_sfs_mesh_init(frig_ctx *ctx, const frig_rig *rig, fr_sfs_mesh *m)
             for (int c = 0; c < 3; c++) m->face_vertex[t->triangles[3 * (size_t)i + c]] = 1;
         m->nt++;
     }
+    m->near_face = malloc(sizeof(int32_t) * (size_t)(m->nt + 1));
+    if (!m->near_face) {
+        fr_sfs_mesh_free(m);
+        return fr_nomem(ctx, "the rig's triangles");
+    }
+    for (int i = 0; i < m->nt; i++) {
+        const int32_t *tr = m->tris + 3 * (size_t)i;
+        if (m->face_vertex[tr[0]] || m->face_vertex[tr[1]] || m->face_vertex[tr[2]]) m->near_face[m->n_near_face++] = i;
+    }
     int faces = 0;
     for (int i = 0; i < m->nt; i++) faces += m->face[i];
     if (!faces) {
@@ -54,8 +64,13 @@ frig_status fr_sfs_mesh_init(frig_ctx *ctx, const frig_rig *rig, fr_sfs_mesh *m)
 }
 
 void fr_sfs_mesh_free(fr_sfs_mesh *m) {
-    free(m->tris), free(m->tri_uv), free(m->face), free(m->core), free(m->face_vertex), free(m->ident);
+    free(m->tris), free(m->tri_uv), free(m->face), free(m->core), free(m->face_vertex), free(m->near_face);
+    free(m->ident);
     memset(m, 0, sizeof *m);
+}
+
+void fr_sfs_mesh_normals(const fr_sfs_mesh *m, const float *xyz, float *normals) {
+    fr_mesh_vertex_normals_at(xyz, m->nv, m->tris, m->near_face, m->n_near_face, m->face_vertex, normals);
 }
 
 void fr_sfs_mesh_eval(const fr_sfs_mesh *m, const double *weights, float *xyz) {

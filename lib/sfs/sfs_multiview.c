@@ -164,7 +164,7 @@ static frig_status photo_geometry(frig_ctx *ctx, mv *s, int k) {
         return fr_nomem(ctx, "the multi-view solve");
     }
     fr_sfs_mesh_eval(m, v->weights, xyz);
-    fr_mesh_vertex_normals(xyz, m->nv, m->tris, m->nt, nrm);
+    fr_sfs_mesh_normals(m, xyz, nrm); /* the texels lie on face triangles */
     for (int t = 0; t < s->nt; t++) {
         const int32_t *tri = m->tris + 3 * (size_t)s->uv->tri[t];
         const float *b = s->uv->bary + 3 * (size_t)t;
@@ -832,7 +832,8 @@ static double pose_terms(const mv *s, int k, const double R[9], const double tv[
         double I[3], S[3], nc[3], y[FR_SH_COUNT], dy[3 * FR_SH_COUNT];
         fr_bilinear3(v->I, v->w, v->h, xy, I);
         fr_mat3_apply(R, N, nc);
-        fr_sh_basis_gradient(nc, y, dy);
+        if (H) fr_sh_basis_gradient(nc, y, dy);
+        else fr_sh_basis(nc, y); /* the same y */
         double sc = s->o->sigma * fmax((I[0] + I[1] + I[2]) / 3.0, INTENSITY_FLOOR);
         double gx[3], gy[3], J[6];
         if (H) {
@@ -843,7 +844,8 @@ static double pose_terms(const mv *s, int k, const double R[9], const double tv[
             double sh = 0, gc[3] = {0, 0, 0};
             for (int j = 0; j < FR_SH_COUNT; j++) {
                 sh += v->sh[c][j] * y[j];
-                for (int d = 0; d < 3; d++) gc[d] += v->sh[c][j] * dy[3 * j + d];
+                if (H)
+                    for (int d = 0; d < 3; d++) gc[d] += v->sh[c][j] * dy[3 * j + d];
             }
             S[c] = sh > 0 ? sh : 0;
             double a = s->albedo[3 * t + c], r = (a * S[c] - I[c]) / sc;
@@ -859,9 +861,9 @@ static double pose_terms(const mv *s, int k, const double R[9], const double tv[
                 jr[d] = (a * (nc[d1] * gc[d2] - nc[d2] * gc[d1]) - (q[d1] * u[d2] - q[d2] * u[d1])) / sc;
                 jr[3 + d] = -u[d] / sc;
             }
-            for (int i = 0; i < 6; i++) {
+            for (int i = 0; i < 6; i++) { /* H's lower triangle: all update_pose's Cholesky reads */
                 g[i] += w * jr[i] * r;
-                for (int j = 0; j < 6; j++) H[6 * i + j] += w * jr[i] * jr[j];
+                for (int j = 0; j <= i; j++) H[6 * i + j] += w * jr[i] * jr[j];
             }
         }
     }

@@ -31,7 +31,7 @@ frig_status fr_sfs_refine_pose(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view 
         fr_transform_points(R, t, xyz, m->nv, xc);
         s = fr_raster_render(ctx, r, &v->cam, xc, m->nv, m->tris, m->nt, &ro);
         if (s) break;
-        fr_mesh_vertex_normals(xc, m->nv, m->tris, m->nt, nrm);
+        fr_sfs_mesh_normals(m, xc, nrm); /* read at face triangles only */
         double A[36] = {0}, b[6] = {0}, W = 0;
         for (size_t i = 0; i < n; i++) {
             if (!v->kept[i] || r->tri[i] < 0 || !m->face[r->tri[i]]) continue;

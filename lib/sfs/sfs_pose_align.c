@@ -311,10 +311,12 @@ static void contour_targets(level *L, const double A[9], const double tc[3], dou
         L->cw[j] = med > 0 && L->cw[j] > 0.25 * med ? 1.0 : 0.0;
 }
 
+/* H's entries k >= p only: the upper triangle of the row-major H is the lower one of the column-major
+ * matrix that fr_solve_spd factors, the only one it reads (the rest stays 0). */
 static void accumulate(const double jr[6], double w, double r, double *H, double *g) {
     for (int p = 0; p < 6; p++) {
         g[p] += w * jr[p] * r;
-        for (int k = 0; k < 6; k++)
+        for (int k = p; k < 6; k++)
             H[6 * p + k] += w * jr[p] * jr[k];
     }
 }

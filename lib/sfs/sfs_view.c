@@ -61,8 +61,12 @@ frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view 
     if (!s) {
         fr_sfs_mesh_eval(m, v->weights, xyz);
         if (disp) {
-            /* the subject's displacement along the normals at this expression */
-            fr_mesh_vertex_normals(xyz, m->nv, m->tris, m->nt, nrm);
+            /* the subject's displacement along the normals at this expression (the face's vertices
+             * only, unless a caller moves others) */
+            int off_face = 0;
+            for (int i = 0; i < m->nv && !off_face; i++) off_face = disp[i] != 0 && !m->face_vertex[i];
+            if (off_face) fr_mesh_vertex_normals(xyz, m->nv, m->tris, m->nt, nrm);
+            else fr_sfs_mesh_normals(m, xyz, nrm);
             for (int i = 0; i < m->nv; i++)
                 for (int k = 0; k < 3; k++) xyz[3 * (size_t)i + k] += disp[i] * nrm[3 * (size_t)i + k];
         }
@@ -74,7 +78,7 @@ frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view 
     if (!s) {
         memcpy(v->R, R, sizeof v->R);
         memcpy(v->t, t, sizeof v->t);
-        fr_mesh_vertex_normals(v->xyz_cam, m->nv, m->tris, m->nt, nrm);
+        fr_sfs_mesh_normals(m, v->xyz_cam, nrm); /* read at face triangles only */
         for (int y = 0; y < v->h; y++)
             for (int x = 0; x < v->w; x++) {
                 size_t i = (size_t)y * v->w + x;
