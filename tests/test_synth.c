@@ -382,6 +382,22 @@ static void check_dataset(const char *dir, int photos, double rate) {
     cJSON_Delete(index);
 }
 
+/* synth.one_light: two photos of a subject share its one light (direction, ambient, colour and
+ * exposure in sh), nothing else of them changes; a photo has a light of its own otherwise. */
+static void test_one_light(const frig_synth_subject *s) {
+    fr_synth_photo a, b, a0;
+    fr_synth_photo_draw(s, 11, 128, 128, FRIG_SYNTH_FAILURE_NONE, 60, 0.0, &a);
+    fr_synth_photo_draw(s, 12, 128, 128, FRIG_SYNTH_FAILURE_NONE, 60, 0.0, &b);
+    a0 = a;
+    CHECK(memcmp(a.sh, b.sh, sizeof a.sh) != 0);
+    fr_synth_photo_one_light(s, &a);
+    fr_synth_photo_one_light(s, &b);
+    CHECK(memcmp(a.sh, b.sh, sizeof a.sh) == 0 && memcmp(a.light_dir, b.light_dir, sizeof a.light_dir) == 0);
+    CHECK(a.exposure == b.exposure && memcmp(a.sh_direct, b.sh_direct, sizeof a.sh_direct) == 0);
+    CHECK(memcmp(a.sh, a0.sh, sizeof a.sh) != 0);
+    CHECK(a.yaw == a0.yaw && a.pitch == a0.pitch && memcmp(a.R, a0.R, sizeof a.R) == 0 && a.seed == a0.seed);
+}
+
 static void test_dataset(void) {
     const int photos = 24;
     const double rate = 0.25;
@@ -441,6 +457,7 @@ int main(void) {
         test_truth_matches_render(s);
         test_landmarks(s);
         test_effects(s);
+        test_one_light(s);
     }
     frig_synth_subject_free(s);
     test_dataset();

@@ -168,6 +168,7 @@ typedef enum frig_param {
     FRIG_PARAM_SYNTH_RIG_OBJ = 504,         /* 1: also write each true rig as OBJ files (default 1) */
     FRIG_PARAM_SYNTH_SHADOWS = 505,         /* share of photos whose key light casts hard shadows (default 0.5) */
     FRIG_PARAM_SYNTH_SPECULAR = 506,        /* strength of the skin's specular highlights, 0 = none (default 1) */
+    FRIG_PARAM_SYNTH_ONE_LIGHT = 507,       /* 1: all photos of a subject under one light, as a video's (default 0) */
 
     /* sfs (section 5.1, Algorithms 4-5; docs/sfs.md) */
     FRIG_PARAM_SFS_FACE_PX = 600,           /* the face's longer side in the crop at most, pixels (default 160) */

@@ -116,6 +116,9 @@ static const param_row rows[] = {
      "share of synthetic photos whose key light casts hard shadows (nose, brows, jaw on the neck)"},
     {FRIG_PARAM_SYNTH_SPECULAR, "synth.specular", 1, 0, 10, 0,
      "strength of synthetic skin's specular highlights relative to the default (0: matte skin)"},
+    {FRIG_PARAM_SYNTH_ONE_LIGHT, "synth.one_light", 0, 0, 1, 1,
+     "1: every photo of a subject under the same light (direction, ambient, colour and exposure), as the frames of "
+     "a video under one lamp; 0: a light of its own per photo"},
 
 
     /* sfs (docs/sfs.md) */

@@ -23,6 +23,7 @@ static void draw_params(frig_ctx *ctx, const frig_synth_subject *s, uint64_t see
     int side = fr_param_int(ctx, FRIG_PARAM_SYNTH_IMAGE_SIZE);
     fr_synth_photo_draw(s, seed, side, side, failure, fr_param(ctx, FRIG_PARAM_SYNTH_MAX_YAW),
                         fr_param(ctx, FRIG_PARAM_SYNTH_FAILURE_RATE), p);
+    if (fr_param_int(ctx, FRIG_PARAM_SYNTH_ONE_LIGHT)) fr_synth_photo_one_light(s, p);
     fr_synth_photo_effects(p, fr_param(ctx, FRIG_PARAM_SYNTH_SHADOWS), fr_param(ctx, FRIG_PARAM_SYNTH_SPECULAR));
 }
 
@@ -146,7 +147,8 @@ static void index_head(frig_ctx *ctx, fr_json *j, uint64_t seed, int subjects, i
     fr_json_int(j, "photos_per_subject", photos);
     fr_json_object(j, "params");
     static const frig_param params[] = {FRIG_PARAM_SYNTH_IMAGE_SIZE, FRIG_PARAM_SYNTH_MAX_YAW,
-                                        FRIG_PARAM_SYNTH_OFFSET_MM, FRIG_PARAM_SYNTH_FAILURE_RATE};
+                                        FRIG_PARAM_SYNTH_OFFSET_MM, FRIG_PARAM_SYNTH_FAILURE_RATE,
+                                        FRIG_PARAM_SYNTH_ONE_LIGHT};
     for (size_t k = 0; k < sizeof params / sizeof params[0]; k++)
         fr_json_number(j, frig_param_name(params[k]), fr_param(ctx, params[k]));
     fr_json_end(j);

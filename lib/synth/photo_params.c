@@ -115,6 +115,12 @@ static void draw_lighting(const frig_synth_subject *s, fr_rng *r, fr_synth_photo
     }
 }
 
+void fr_synth_photo_one_light(const frig_synth_subject *s, fr_synth_photo *p) {
+    fr_rng r;
+    fr_rng_seed(&r, s->seed ^ 0x6c1647u); /* a stream of the subject's own */
+    draw_lighting(s, &r, p);
+}
+
 /* Dark glasses: the lenses' size and height jitter, a dark tinted lens, a frame colour and the
  * strength of the sky reflected in the lenses. */
 static void draw_sunglasses(fr_rng *r, fr_synth_photo *p) {

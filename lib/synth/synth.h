@@ -144,6 +144,9 @@ void fr_synth_photo_draw(const frig_synth_subject *s, uint64_t seed, int width, 
 /* Cast shadows (with probability shadow_rate) and specular highlights (strength x specular)
  * for a drawn photo, from a stream of their own (the photo's other parameters do not change). */
 void fr_synth_photo_effects(fr_synth_photo *p, double shadow_rate, double specular);
+/* The subject's one light (synth.one_light) in place of the photo's own: drawn from the subject's
+ * seed, the same for all its photos. Before fr_synth_photo_effects. */
+void fr_synth_photo_one_light(const frig_synth_subject *s, fr_synth_photo *p);
 
 /* A shadow map of the key light: the scene's depth along the light's direction of travel,
  * orthographic (shadow.c). */
