@@ -206,6 +206,8 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_IDENTITY_MODES = 632,    /* the model's first N identity modes solved with the shared shape, with
                                                frig_sfs_with_model (default 40; 0 off) */
     FRIG_PARAM_SFS_IDENTITY_PRIOR = 633,    /* weight of their prior N(0, I) in the shared solve's energy (default 1) */
+    FRIG_PARAM_SFS_JOINT_LIGHT = 634,       /* the photos' lights closer to one direction on the face than this: the
+                                             * light shared solve (default 0.95; 1: never; docs/sfs.md) */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

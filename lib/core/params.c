@@ -200,6 +200,10 @@ static const param_row rows[] = {
      "move along its surface as well as across it (frig_sfs_with_model; frig sfs --model; 0 off)"},
     {FRIG_PARAM_SFS_IDENTITY_PRIOR, "sfs.identity_prior", 1, 0, 1e9, 0,
      "weight of the identity weights' prior |w|^2 (standard deviations) against the shared solve's robust energy"},
+    {FRIG_PARAM_SFS_JOINT_LIGHT, "sfs.joint_light", 0.95, 0, 1, 0,
+     "when the photos' lights, turned into the head's frame, are closer to one direction than this (the mean "
+     "resultant length of their directions; 1 = one direction, as frames of a video under one lamp without "
+     "turns), the light shared solve runs: the full one takes the face's colours for its shape there"},
 
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,

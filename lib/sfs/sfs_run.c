@@ -159,6 +159,23 @@ static frig_status depth_one(frig_ctx *ctx, size_t k, void *user) {
     return FRIG_OK;
 }
 
+double fr_sfs_light_concentration(const fr_sfs_view *views, const uint8_t *ok, int n) {
+    double sum[3] = {0, 0, 0};
+    int m = 0;
+    for (int k = 0; k < n; k++) {
+        if (!ok[k]) continue;
+        const fr_sfs_view *v = &views[k];
+        /* the basis's first-order terms are y, z, x (raster/sh_lighting.c) */
+        double d[3] = {0, 0, 0};
+        for (int c = 0; c < 3; c++) d[0] += v->sh[c][3], d[1] += v->sh[c][1], d[2] += v->sh[c][2];
+        double l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        if (!(l > 0)) continue;
+        for (int i = 0; i < 3; i++) sum[i] += (v->R[i] * d[0] + v->R[3 + i] * d[1] + v->R[6 + i] * d[2]) / l;
+        m++;
+    }
+    return m < 2 ? 0 : sqrt(sum[0] * sum[0] + sum[1] * sum[1] + sum[2] * sum[2]) / m;
+}
+
 /* Photos the stage judges: fitted, ok or judged by an earlier sfs run (options may have changed). */
 static int candidate(const fr_photo *p) {
     return p->fitted && (p->status == FRIG_PHOTO_OK || p->status == FRIG_PHOTO_SFS_FAILED) && p->width > 0 && p->height > 0;
@@ -174,9 +191,9 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
     for (size_t i = 0; i < set->count; i++) n += candidate(&set->photos[i]);
     /* A few photos' shared albedo and shape cannot register them, and many make the full solve
      * slow (docs/sfs.md): the light solve. */
-    if (n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0) ||
-        (st->joint_max_photos > 0 && n > (size_t)st->joint_max_photos))
-        fr_sfs_light_shared_solve(&r->st);
+    int light = n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0) ||
+                (st->joint_max_photos > 0 && n > (size_t)st->joint_max_photos);
+    if (light) fr_sfs_light_shared_solve(&r->st);
     st = &r->st;
     r->photo = malloc(sizeof(size_t) * (n + 1));
     r->views = calloc(n + 1, sizeof *r->views);
@@ -233,6 +250,16 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
         free(a), free(sorted);
     }
     log_lighting(ctx, r, "on the shared albedo");
+    /* Lights from one direction on the face (frames of a video under one lamp, the head hardly
+     * turning) do not tell the face's colours from its shape, and the full solve then carves the
+     * colours into the shape (docs/sfs.md, "One light for all photos"): the light solve. */
+    double conc = fr_sfs_light_concentration(r->views, r->ok, r->n);
+    if (!light && used && conc > st->joint_light) {
+        fr_log(ctx, FRIG_LOG_INFO, "sfs: the photos' lights fall on the face from one direction (concentration %.3f "
+               "over sfs.joint_light %.3g): the light shared solve", conc, st->joint_light);
+        fr_sfs_light_shared_solve(&r->st);
+    } else
+        fr_log(ctx, FRIG_LOG_DEBUG, "sfs: the photos' lights on the face: concentration %.3f", conc);
     cpu[2] = fr_cpu_seconds();
     /* the subject's shape from all photos: a displacement of the rig in UV space */
     float *disp = NULL, *vdisp = NULL;
