@@ -254,7 +254,7 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
      * turning) do not tell the face's colours from its shape, and the full solve then carves the
      * colours into the shape (docs/sfs.md, "One light for all photos"): the light solve. */
     double conc = fr_sfs_light_concentration(r->views, r->ok, r->n);
-    if (!light && used && conc > st->joint_light) {
+    if (!light && used && st->joint_light < 1 && conc > st->joint_light) { /* 1: never (rounding can pass 1) */
         fr_log(ctx, FRIG_LOG_INFO, "sfs: the photos' lights fall on the face from one direction (concentration %.3f "
                "over sfs.joint_light %.3g): the light shared solve", conc, st->joint_light);
         fr_sfs_light_shared_solve(&r->st);
