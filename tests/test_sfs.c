@@ -119,7 +119,6 @@ static void test_slic(void) {
     free(lab), free(labels), free(side);
 }
 
-/* Known lighting from normals and albedo, 10% of the pixels replaced by outliers. */
 /* The lights' concentration on the face (fr_sfs_light_concentration): one light in camera axes on a
  * head that does not turn gives 1, whatever the light's strength and colour; heads turned by +-a
  * about the vertical axis under that light give cos(a) for a frontal light; a light that turns with
@@ -156,6 +155,7 @@ static void test_light_concentration(void) {
     CHECK(one == 0.0);
 }
 
+/* Known lighting from normals and albedo, 10% of the pixels replaced by outliers. */
 static void test_lighting(void) {
     int n = 4000;
     float *I = malloc(sizeof(float) * 3 * n), *a = malloc(sizeof(float) * 3 * n), *nr = malloc(sizeof(float) * 3 * n);
