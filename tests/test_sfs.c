@@ -20,6 +20,7 @@
 #include "core/rng.h"
 #include "eval/cloud_error.h"
 #include "eval/shape_error.h"
+#include "linalg/linalg.h"
 #include "model_fixture.h"
 #include "raster/rotation.h"
 #include "raster/sh_lighting.h"
@@ -121,8 +122,10 @@ static void test_slic(void) {
 
 /* The lights' concentration on the face (fr_sfs_light_concentration): one light in camera axes on a
  * head that does not turn gives 1, whatever the light's strength and colour; heads turned by +-a
- * about the vertical axis under that light give cos(a) for a frontal light; a light that turns with
- * the head gives 1 again; views not ok, or unlit, do not count; fewer than two give 0. */
+ * about the vertical axis under a frontal light give cos(a)^2 (the mean of d d^T is
+ * diag(sin^2 a, 0, cos^2 a)); a light that turns with the head gives 1 again, and so does half of
+ * those lights flipped to the opposite side (one axis); lights along the three axes give 1/3;
+ * views not ok, or unlit, do not count; fewer than two give 0. */
 static void test_light_concentration(void) {
     enum { N = 6 };
     fr_sfs_view v[N];
@@ -144,14 +147,41 @@ static void test_light_concentration(void) {
         for (int c = 0; c < 3; c++) fr_sh_irradiance_coeffs(d, 1.0, 0.4, v[k].sh[c]);
     }
     double following = fr_sfs_light_concentration(v, ok, N);
+    for (int k = 0; k < N; k += 2) /* the opposite light on every other view */
+        for (int c = 0; c < 3; c++)
+            for (int i = 1; i < 4; i++) v[k].sh[c][i] = -v[k].sh[c][i];
+    double flipped = fr_sfs_light_concentration(v, ok, N);
+    for (int k = 0; k < N; k++) { /* head still, lights along x, y, z in turn */
+        double d[3] = {k % 3 == 0, k % 3 == 1, k % 3 == 2};
+        fr_rotation_from_euler(0, 0, 0, v[k].R);
+        for (int c = 0; c < 3; c++) fr_sh_irradiance_coeffs(d, 1.0, 0.4, v[k].sh[c]);
+    }
+    double spread = fr_sfs_light_concentration(v, ok, N);
+    /* turned heads under lights from six directions: against LAPACK's eigenvalues of the same mean */
+    double T[9] = {0}, w[3];
+    for (int k = 0; k < N; k++) {
+        double d[3] = {0.3 * k - 0.7, 1.0 - 0.2 * k, -1.5 + 0.1 * k * k}, l = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+        fr_rotation_from_euler(0.2 * k - 0.5, 0.1 * k, 0.05 * k, v[k].R);
+        for (int c = 0; c < 3; c++) fr_sh_irradiance_coeffs(d, 1.0 + c, 0.4, v[k].sh[c]);
+        double h[3];
+        for (int i = 0; i < 3; i++) h[i] = (v[k].R[i] * d[0] + v[k].R[3 + i] * d[1] + v[k].R[6 + i] * d[2]) / l;
+        for (int i = 0; i < 9; i++) T[i] += h[i / 3] * h[i % 3] / N;
+    }
+    double general = fr_sfs_light_concentration(v, ok, N);
+    CHECK(fr_sym_eig(ctx, 3, T, 3, w) == FRIG_OK);
+    printf("light concentration, six lights on turned heads: %.12f, LAPACK %.12f\n", general, w[2]);
+    CHECK(fabs(general - w[2]) < 1e-9);
     memset(v[0].sh, 0, sizeof v[0].sh); /* unlit */
     ok[1] = 0;
     for (int k = 2; k < N; k++) ok[k] = 0;
     double one = fr_sfs_light_concentration(v, ok, N);
-    printf("light concentration: turned +-%.2f rad %.6f (cos %.6f), the light turning with the head %.6f, one lit "
-           "view %.1f\n", a, turned, cos(a), following, one);
-    CHECK(fabs(turned - cos(a)) < 1e-9);
+    printf("light concentration: turned +-%.2f rad %.6f (cos^2 %.6f), the light turning with the head %.6f, half of "
+           "them flipped %.6f, three axes %.6f, one lit view %.1f\n", a, turned, cos(a) * cos(a), following, flipped,
+           spread, one);
+    CHECK(fabs(turned - cos(a) * cos(a)) < 1e-9);
     CHECK(fabs(following - 1.0) < 1e-9);
+    CHECK(fabs(flipped - 1.0) < 1e-9);
+    CHECK(fabs(spread - 1.0 / 3) < 1e-9);
     CHECK(one == 0.0);
 }
 

@@ -197,7 +197,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_SHAPE_SIGMA = 624,       /* the shared shape's residual scale, relative intensity (default 0.1) */
     FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 2) */
     FRIG_PARAM_SFS_JOINT_MIN_PHOTOS = 626,  /* fewer photos: the light shared solve, no registration (default 16; docs/sfs.md) */
-    FRIG_PARAM_SFS_JOINT_MAX_PHOTOS = 627,  /* more photos: the light shared solve too, for time (default 60; 0: no limit) */
+    FRIG_PARAM_SFS_JOINT_MAX_PHOTOS = 627,  /* more photos: the light shared solve too, for time (default 120; 0: no limit) */
     FRIG_PARAM_SFS_EXPRESSION_STEPS = 628,  /* each photo's expression steps per full shared round (default 2; 0 off) */
     FRIG_PARAM_SFS_EXPRESSION_PRIOR = 629,  /* refined expression weights held to the fit's (default 0.3) */
     FRIG_PARAM_SFS_EXPRESSION_SPARSE = 630, /* L1 on the refined expression weights (default 0.3) */
@@ -206,7 +206,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_IDENTITY_MODES = 632,    /* the model's first N identity modes solved with the shared shape, with
                                                frig_sfs_with_model (default 40; 0 off) */
     FRIG_PARAM_SFS_IDENTITY_PRIOR = 633,    /* weight of their prior N(0, I) in the shared solve's energy (default 1) */
-    FRIG_PARAM_SFS_JOINT_LIGHT = 634,       /* the photos' lights closer to one direction on the face than this: the
+    FRIG_PARAM_SFS_JOINT_LIGHT = 634,       /* the photos' lights closer to one axis on the face than this: the
                                              * light shared solve (default 0.95; 1: never; docs/sfs.md) */
 
     /* identity (frig/identity.h) */

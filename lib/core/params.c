@@ -179,9 +179,9 @@ static const param_row rows[] = {
      "with fewer photos to judge than this, the shared shape is solved the light way (albedo alternated, no multi-view "
      "term, no pose registration, at most 3 rounds of 4 iterations each): a few photos' shared albedo and shape cannot "
      "register them (measured on 7: poses drift to 14 degrees); 0: never"},
-    {FRIG_PARAM_SFS_JOINT_MAX_PHOTOS, "sfs.joint_max_photos", 60, 0, 1e6, 1,
-     "with more photos to judge than this, the light shared solve too: the full one's cost grows with the photos (91 "
-     "video frames: 34 CPU s for the shared shape against 6) and frig run keeps 100 photos under a minute; 0: no limit"},
+    {FRIG_PARAM_SFS_JOINT_MAX_PHOTOS, "sfs.joint_max_photos", 120, 0, 1e6, 1,
+     "with more photos to judge than this, the light shared solve too, for time: the full one's cost grows with the "
+     "photos (a 100-photo frig synth subject: 33 CPU s against 18 for the stage, frig run 42 s on 2 cores); 0: no limit"},
     {FRIG_PARAM_SFS_EXPRESSION_STEPS, "sfs.expression_steps", 2, 0, 50, 1,
      "Gauss-Newton steps of each photo's expression weights against its own shading and image gradients after each "
      "round of the full shared solve (the rig at the weights plus the shared displacement; the light solve keeps the fit's; "
@@ -201,9 +201,9 @@ static const param_row rows[] = {
     {FRIG_PARAM_SFS_IDENTITY_PRIOR, "sfs.identity_prior", 1, 0, 1e9, 0,
      "weight of the identity weights' prior |w|^2 (standard deviations) against the shared solve's robust energy"},
     {FRIG_PARAM_SFS_JOINT_LIGHT, "sfs.joint_light", 0.95, 0, 1, 0,
-     "when the photos' lights, turned into the head's frame, are closer to one direction than this (the mean "
-     "resultant length of their directions; 1 = one direction, as frames of a video under one lamp without "
-     "turns), the light shared solve runs: the full one takes the face's colours for its shape there"},
+     "when the photos' lights, turned into the head's frame, are closer to one axis than this (the largest "
+     "eigenvalue of the mean outer product of their directions; 1 = one axis, as frames of a video under one "
+     "lamp without turns), the light shared solve runs: the full one takes the face's colours for its shape there"},
 
     /* identity */
     {FRIG_PARAM_IDENTITY_THRESHOLD, "identity.threshold", 0.5, 0.05, 2, 0,

@@ -26,11 +26,11 @@ typedef struct fr_sfs_run {
 frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photoset *set, const fr_sfs_settings *st,
                            fr_sfs_run *run);
 void fr_sfs_run_free(fr_sfs_run *run);
-/* How nearly the lights of the views marked ok fall on the face from one direction: the mean
- * resultant length of their directions in the head's frame (each view's first-order SH terms
- * summed over the channels, turned by the inverse of its rotation R), 1 = one direction (frames of
- * a video under one lamp, the head hardly turning); 0 with fewer than two lit views. The stage
- * takes the light shared solve above sfs.joint_light. */
+/* How nearly the lights of the views marked ok fall on the face along one axis: their directions in
+ * the head's frame (each view's first-order SH terms summed over the channels, turned by the inverse
+ * of its rotation R) and the largest eigenvalue of the mean of d d^T, 1 = one axis (frames of a
+ * video under one lamp, the head hardly turning), 1/3 = spread evenly; 0 with fewer than two lit
+ * views. The stage takes the light shared solve above sfs.joint_light. */
 double fr_sfs_light_concentration(const fr_sfs_view *views, const uint8_t *ok, int n);
 
 /* frig_sfs with the settings given instead of the context's (the outer loop's recovery). */
