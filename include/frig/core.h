@@ -196,7 +196,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_SHAPE_ITERATIONS = 623,  /* Gauss-Newton iterations of the shared shape per round (default 2) */
     FRIG_PARAM_SFS_SHAPE_SIGMA = 624,       /* the shared shape's residual scale, relative intensity (default 0.1) */
     FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 2) */
-    FRIG_PARAM_SFS_JOINT_MIN_PHOTOS = 626,  /* fewer photos: the light shared solve, no registration (default 16; docs/sfs.md) */
+    FRIG_PARAM_SFS_JOINT_MIN_PHOTOS = 626,  /* fewer photos: the light shared solve, no registration (default 4; docs/sfs.md) */
     FRIG_PARAM_SFS_JOINT_MAX_PHOTOS = 627,  /* more photos: the light shared solve too, for time (default 120; 0: no limit) */
     FRIG_PARAM_SFS_EXPRESSION_STEPS = 628,  /* each photo's expression steps per full shared round (default 2; 0 off) */
     FRIG_PARAM_SFS_EXPRESSION_PRIOR = 629,  /* refined expression weights held to the fit's (default 0.3) */

@@ -175,10 +175,10 @@ static const param_row rows[] = {
      "the shared shape's residual scale, relative intensity of one standard deviation"},
     {FRIG_PARAM_SFS_JOINT_POSE, "sfs.joint_pose", 2, 0, 50, 1,
      "Levenberg-Marquardt steps of each photo's pose against the shared shape's shading after each round (0 off)"},
-    {FRIG_PARAM_SFS_JOINT_MIN_PHOTOS, "sfs.joint_min_photos", 16, 0, 1e6, 1,
+    {FRIG_PARAM_SFS_JOINT_MIN_PHOTOS, "sfs.joint_min_photos", 4, 0, 1e6, 1,
      "with fewer photos to judge than this, the shared shape is solved the light way (albedo alternated, no multi-view "
-     "term, no pose registration, at most 3 rounds of 4 iterations each): a few photos' shared albedo and shape cannot "
-     "register them (measured on 7: poses drift to 14 degrees); 0: never"},
+     "term, no pose registration, at most 3 rounds of 4 iterations each); the full solve was better down to 4 photos "
+     "judged on frig synth subjects (docs/sfs.md); 0: never"},
     {FRIG_PARAM_SFS_JOINT_MAX_PHOTOS, "sfs.joint_max_photos", 120, 0, 1e6, 1,
      "with more photos to judge than this, the light shared solve too, for time: the full one's cost grows with the "
      "photos (a 100-photo frig synth subject: 33 CPU s against 18 for the stage, frig run 42 s on 2 cores); 0: no limit"},
