@@ -126,6 +126,12 @@ static void test_slic(void) {
  * diag(sin^2 a, 0, cos^2 a)); a light that turns with the head gives 1 again, and so does half of
  * those lights flipped to the opposite side (one axis); lights along the three axes give 1/3;
  * views not ok, or unlit, do not count; fewer than two give 0. */
+static double concentration(const fr_sfs_view *v, const uint8_t *ok, int n) {
+    double c = -1;
+    CHECK(fr_sfs_light_concentration(ctx, v, ok, n, &c) == FRIG_OK);
+    return c;
+}
+
 static void test_light_concentration(void) {
     enum { N = 6 };
     fr_sfs_view v[N];
@@ -137,26 +143,26 @@ static void test_light_concentration(void) {
         for (int c = 0; c < 3; c++) fr_sh_irradiance_coeffs(front, 1.0 + 0.3 * k + 0.1 * c, 0.4, v[k].sh[c]);
         ok[k] = 1;
     }
-    CHECK(fabs(fr_sfs_light_concentration(v, ok, N) - 1.0) < 1e-12);
+    CHECK(fabs(concentration(v, ok, N) - 1.0) < 1e-12);
     const double a = 0.5; /* radians */
     for (int k = 0; k < N; k++) fr_rotation_from_euler(k % 2 ? a : -a, 0, 0, v[k].R);
-    double turned = fr_sfs_light_concentration(v, ok, N);
+    double turned = concentration(v, ok, N);
     for (int k = 0; k < N; k++) { /* the light turned with each head: one direction on the face */
         double d[3];
         for (int i = 0; i < 3; i++) d[i] = v[k].R[3 * i + 2] * -1.0; /* R (0, 0, -1) */
         for (int c = 0; c < 3; c++) fr_sh_irradiance_coeffs(d, 1.0, 0.4, v[k].sh[c]);
     }
-    double following = fr_sfs_light_concentration(v, ok, N);
+    double following = concentration(v, ok, N);
     for (int k = 0; k < N; k += 2) /* the opposite light on every other view */
         for (int c = 0; c < 3; c++)
             for (int i = 1; i < 4; i++) v[k].sh[c][i] = -v[k].sh[c][i];
-    double flipped = fr_sfs_light_concentration(v, ok, N);
+    double flipped = concentration(v, ok, N);
     for (int k = 0; k < N; k++) { /* head still, lights along x, y, z in turn */
         double d[3] = {k % 3 == 0, k % 3 == 1, k % 3 == 2};
         fr_rotation_from_euler(0, 0, 0, v[k].R);
         for (int c = 0; c < 3; c++) fr_sh_irradiance_coeffs(d, 1.0, 0.4, v[k].sh[c]);
     }
-    double spread = fr_sfs_light_concentration(v, ok, N);
+    double spread = concentration(v, ok, N);
     /* turned heads under lights from six directions: against LAPACK's eigenvalues of the same mean */
     double T[9] = {0}, w[3];
     for (int k = 0; k < N; k++) {
@@ -167,14 +173,14 @@ static void test_light_concentration(void) {
         for (int i = 0; i < 3; i++) h[i] = (v[k].R[i] * d[0] + v[k].R[3 + i] * d[1] + v[k].R[6 + i] * d[2]) / l;
         for (int i = 0; i < 9; i++) T[i] += h[i / 3] * h[i % 3] / N;
     }
-    double general = fr_sfs_light_concentration(v, ok, N);
+    double general = concentration(v, ok, N);
     CHECK(fr_sym_eig(ctx, 3, T, 3, w) == FRIG_OK);
     printf("light concentration, six lights on turned heads: %.12f, LAPACK %.12f\n", general, w[2]);
     CHECK(fabs(general - w[2]) < 1e-9);
     memset(v[0].sh, 0, sizeof v[0].sh); /* unlit */
     ok[1] = 0;
     for (int k = 2; k < N; k++) ok[k] = 0;
-    double one = fr_sfs_light_concentration(v, ok, N);
+    double one = concentration(v, ok, N);
     printf("light concentration: turned +-%.2f rad %.6f (cos^2 %.6f), the light turning with the head %.6f, half of "
            "them flipped %.6f, three axes %.6f, one lit view %.1f\n", a, turned, cos(a) * cos(a), following, flipped,
            spread, one);

@@ -14,6 +14,7 @@
 #include "core/clock.h"
 #include "core/context.h"
 #include "image/colour_transfer.h"
+#include "linalg/linalg.h"
 #include "rig/rig.h"
 #include "sfs/sfs_multiview.h"
 #include "sfs/sfs_photo.h"
@@ -159,28 +160,15 @@ static frig_status depth_one(frig_ctx *ctx, size_t k, void *user) {
     return FRIG_OK;
 }
 
-/* The largest eigenvalue of a symmetric 3 x 3 matrix, in closed form (the trigonometric solution of
- * its characteristic cubic). */
-static double largest_eigenvalue3(const double *A) {
-    double p1 = A[1] * A[1] + A[2] * A[2] + A[5] * A[5];
-    double q = (A[0] + A[4] + A[8]) / 3;
-    if (p1 == 0) return fmax(A[0], fmax(A[4], A[8]));
-    double p2 = (A[0] - q) * (A[0] - q) + (A[4] - q) * (A[4] - q) + (A[8] - q) * (A[8] - q) + 2 * p1;
-    double p = sqrt(p2 / 6), B[9];
-    for (int i = 0; i < 9; i++) B[i] = (A[i] - (i % 4 == 0 ? q : 0)) / p;
-    double detB = B[0] * (B[4] * B[8] - B[5] * B[7]) - B[1] * (B[3] * B[8] - B[5] * B[6]) +
-                  B[2] * (B[3] * B[7] - B[4] * B[6]);
-    double r = fmin(1, fmax(-1, detB / 2));
-    return q + 2 * p * cos(acos(r) / 3);
-}
-
 /* How close the photos' lights are to one axis on the face: each photo's light direction from its
  * first-order SH terms (y, z, x: raster/sh_lighting.c), turned into the head's frame by its rotation,
  * and the largest eigenvalue of the mean of d d^T (1: every light on one axis, 1/3 spread evenly).
  * An axis, not a direction: a light and its opposite shade along the same normal component, and
  * under one soft lamp the fitted first-order terms can flip sign from photo to photo. */
-double fr_sfs_light_concentration(const fr_sfs_view *views, const uint8_t *ok, int n) {
-    double T[9] = {0};
+frig_status fr_sfs_light_concentration(frig_ctx *ctx, const fr_sfs_view *views, const uint8_t *ok, int n,
+                                       double *concentration) {
+    double T[9] = {0}, w[3];
+    *concentration = 0;
     int m = 0;
     for (int k = 0; k < n; k++) {
         if (!ok[k]) continue;
@@ -194,9 +182,11 @@ double fr_sfs_light_concentration(const fr_sfs_view *views, const uint8_t *ok, i
             for (int j = 0; j < 3; j++) T[3 * i + j] += h[i] * h[j];
         m++;
     }
-    if (m < 2) return 0;
+    if (m < 2) return FRIG_OK;
     for (int i = 0; i < 9; i++) T[i] /= m;
-    return largest_eigenvalue3(T);
+    frig_status s = fr_sym_eig(ctx, 3, T, 3, w);
+    if (!s) *concentration = w[2];
+    return s;
 }
 
 /* Photos the stage judges: fitted, ok or judged by an earlier sfs run (options may have changed). */
@@ -276,12 +266,13 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
     /* Lights along one axis on the face (frames of a video under one lamp, the head hardly
      * turning) do not tell the face's colours from its shape, and the full solve then carves the
      * colours into the shape (docs/sfs.md, "One light for all photos"): the light solve. */
-    double conc = fr_sfs_light_concentration(r->views, r->ok, r->n);
-    if (!light && used && st->joint_light < 1 && conc > st->joint_light) { /* 1: never (rounding can pass 1) */
+    double conc = 0;
+    if (!s) s = fr_sfs_light_concentration(ctx, r->views, r->ok, r->n, &conc);
+    if (!s && !light && used && st->joint_light < 1 && conc > st->joint_light) { /* 1: never (rounding can pass 1) */
         fr_log(ctx, FRIG_LOG_INFO, "sfs: the photos' lights fall on the face along one axis (concentration %.3f "
                "over sfs.joint_light %.3g): the light shared solve", conc, st->joint_light);
         fr_sfs_light_shared_solve(&r->st);
-    } else
+    } else if (!s)
         fr_log(ctx, FRIG_LOG_DEBUG, "sfs: the photos' lights on the face: concentration %.3f", conc);
     cpu[2] = fr_cpu_seconds();
     /* the subject's shape from all photos: a displacement of the rig in UV space */

@@ -30,8 +30,10 @@ void fr_sfs_run_free(fr_sfs_run *run);
  * the head's frame (each view's first-order SH terms summed over the channels, turned by the inverse
  * of its rotation R) and the largest eigenvalue of the mean of d d^T, 1 = one axis (frames of a
  * video under one lamp, the head hardly turning), 1/3 = spread evenly; 0 with fewer than two lit
- * views. The stage takes the light shared solve above sfs.joint_light. */
-double fr_sfs_light_concentration(const fr_sfs_view *views, const uint8_t *ok, int n);
+ * views (LAPACK's symmetric eigensolver; its failure is the status). The stage takes the light
+ * shared solve above sfs.joint_light. */
+frig_status fr_sfs_light_concentration(frig_ctx *ctx, const fr_sfs_view *views, const uint8_t *ok, int n,
+                                       double *concentration);
 
 /* frig_sfs with the settings given instead of the context's (the outer loop's recovery). */
 frig_status fr_sfs_stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
