@@ -44,6 +44,9 @@ int cli_rig_paths_of(const char *cmd, const char *out, cli_rig_paths *p);
 int cli_export_rig(cli_env *env, const char *cmd, frig_rig *rig, const char *out, const char *texture);
 /* Remove the *.jpg files in a folder (an earlier run's overlays). */
 void cli_clear_jpegs(const char *dir);
+/* The sfs stage's shared solve in words, for its summary line ("the full shared solve", "the light
+ * shared solve: the lights fall along one axis, 0.979"); "" when the stage has not run. */
+const char *cli_sfs_solve_words(const frig_photoset *set, char *buf, size_t size);
 
 /* Inputs named on the command line (inputs.c): photos, and videos for frig run. */
 typedef struct cli_input {

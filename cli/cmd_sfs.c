@@ -72,8 +72,10 @@ int cmd_sfs(cli_env *env, int argc, char **argv) {
         with += c > 0;
         points += c;
     }
-    cli_note(env, "sfs: %zu cloud%s (%zu points in all), %zu photo%s sfs_failed; albedo in %s", with,
-             with == 1 ? "" : "s", points, failed, failed == 1 ? "" : "s", path);
+    char words[160];
+    cli_note(env, "sfs: %zu cloud%s (%zu points in all), %zu photo%s sfs_failed, %s; albedo in %s", with,
+             with == 1 ? "" : "s", points, failed, failed == 1 ? "" : "s", cli_sfs_solve_words(set, words, sizeof words),
+             path);
 done:
     frig_image_free(albedo);
     frig_clouds_free(clouds);

@@ -85,3 +85,22 @@ int cli_export_rig(cli_env *env, const char *cmd, frig_rig *rig, const char *out
     printf("%s\n", missing ? "" : " none");
     return CLI_OK;
 }
+
+const char *cli_sfs_solve_words(const frig_photoset *set, char *buf, size_t size) {
+    int photos;
+    double axis;
+    const char *why;
+    frig_sfs_solve solve = frig_photoset_sfs_solve(set, &photos, &axis, &why);
+    if (solve == FRIG_SFS_SOLVE_FULL)
+        snprintf(buf, size, "the full shared solve (lights' axis %.3f)", axis);
+    else if (solve == FRIG_SFS_SOLVE_LIGHT && !strcmp(why, "one_light_axis"))
+        snprintf(buf, size, "the light shared solve: the lights fall on the face along one axis (%.3f)", axis);
+    else if (solve == FRIG_SFS_SOLVE_LIGHT && !strcmp(why, "few_photos"))
+        snprintf(buf, size, "the light shared solve: %d photo%s judged, under sfs.joint_min_photos", photos,
+                 photos == 1 ? "" : "s");
+    else if (solve == FRIG_SFS_SOLVE_LIGHT)
+        snprintf(buf, size, "the light shared solve: %d photos judged, over sfs.joint_max_photos", photos);
+    else
+        snprintf(buf, size, "%s", "");
+    return buf;
+}

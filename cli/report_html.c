@@ -394,8 +394,15 @@ static void section_shape(page *p, run_ctx *r, const frig_photoset *set) {
     }
     put(p, "<p class=\"muted\">The sfs stage (section 5.1) recovers a point cloud of the face from each photo's shading and "
            "the subject's albedo; the retarget stage (sections 5.2-5.3) deforms the rig onto the clouds, beyond the "
-           "model's span, then refits every photo and recovers the clouds again (retarget.iterations rounds).</p>\n"
-           "<div class=\"hero\">");
+           "model's span, then refits every photo and recovers the clouds again (retarget.iterations rounds).</p>\n");
+    char words[160];
+    if (*cli_sfs_solve_words(set, words, sizeof words)) {
+        put(p, "<p class=\"muted\">The shape all photos share came from ");
+        put_text(p, words);
+        put(p, " (docs/sfs.md: the full solve adds the views' agreement, the model's identity, each photo's "
+               "registration and expression; the light one reads the shading alone).</p>\n");
+    }
+    put(p, "<div class=\"hero\">");
     if (rigs)
         put(p, "<figure><a href=\"overlays/retarget/rigs.png\"><img class=\"sheet\" src=\"overlays/retarget/rigs.png\" "
                "alt=\"the fit's rig and the personalized rig\"></a><figcaption>top: the fit's rig (the model's span); "

@@ -391,8 +391,10 @@ static int sfs_run(run_ctx *r) {
             with += frig_clouds_count(clouds, i) > 0;
             points += frig_clouds_count(clouds, i);
         }
+        char words[160];
         if (clouds)
-            run_summary(r, "%zu clouds (%zu points), %zu photo%s sfs_failed", with, points, failed, failed == 1 ? "" : "s");
+            run_summary(r, "%zu clouds (%zu points), %zu photo%s sfs_failed; %s", with, points, failed,
+                        failed == 1 ? "" : "s", cli_sfs_solve_words(set, words, sizeof words));
         else
             run_summary(r, "no photo's shading could be read (%zu sfs_failed): the rig stays the fit's", failed);
     }

@@ -3,6 +3,7 @@
  * the lighting fit, the depth solver on a problem its own model made, and the whole stage on a
  * small synthetic subject: cloud error against the true surface below floors measured on
  * synthetic subjects, an over-exposed photo sfs_failed, results in report.json read back,
+ * the shared solve it took recorded (and each reason read back),
  * the same clouds whatever the thread count, the albedo texture drawn later from the kept
  * computation (the outer loop's) the same bytes; the shared shape's joint pose (with the photos'
  * own gradients) brings fits turned by 4 degrees toward the truth, and the coarse-to-fine pose
@@ -495,6 +496,14 @@ static void test_stage(void) {
     /* the head frame: points near the rig's face, normals unit length */
     const float *x0 = frig_clouds_xyz(cl, 0), *n0 = frig_clouds_normals(cl, 0);
     CHECK(x0 && fabs(x0[2]) < 0.2 && fabs(sqrt(n0[0] * n0[0] + n0[1] * n0[1] + n0[2] * n0[2]) - 1) < 1e-3);
+    /* the shared solve: eight photos judged (over sfs.joint_min_photos), lights from five directions */
+    int judged = 0;
+    double axis = 0;
+    const char *why = NULL;
+    frig_sfs_solve solve = frig_photoset_sfs_solve(sc.set, &judged, &axis, &why);
+    printf("shared solve %d (%s), %d photos judged, lights' axis %.3f\n", (int)solve, why, judged, axis);
+    CHECK(solve == FRIG_SFS_SOLVE_FULL && judged == 8 && !strcmp(why, ""));
+    CHECK(axis > 1.0 / 3 && axis < frig_ctx_get_param(ctx, FRIG_PARAM_SFS_JOINT_LIGHT));
     /* report.json keeps the results */
     CHECK(frig_photoset_save(ctx, sc.set, dir) == FRIG_OK);
     frig_photoset *back = NULL;
@@ -506,6 +515,10 @@ static void test_stage(void) {
         CHECK(frig_photoset_sfs_pose(sc.set, 0, Ra, NULL) == FRIG_OK && frig_photoset_sfs_pose(back, 0, Rb, NULL) == FRIG_OK);
         CHECK(memcmp(Ra, Rb, sizeof Ra) == 0);
         CHECK(frig_photoset_status(back, 7) == FRIG_PHOTO_SFS_FAILED);
+        int judged_back = 0;
+        double axis_back = 0;
+        CHECK(frig_photoset_sfs_solve(back, &judged_back, &axis_back, NULL) == FRIG_SFS_SOLVE_FULL && judged_back == 8 &&
+              fabs(axis_back - axis) < 1e-9);
         frig_photoset_free(back);
     }
     /* one thread: the same clouds, byte for byte (the rerun judges the sfs_failed photo again) */
@@ -530,6 +543,45 @@ static void test_stage(void) {
 /* Poses turned by 4 degrees (about y and x, zero mean: a turn common to all photos is free): the
  * shared solve's pose steps (with the multi-view term and the joint albedo, residual scale 0.1)
  * against the shared surface and albedo bring them back toward the truth. */
+/* The set's record of the shared solve: each reason read back from report.json as written, none on
+ * a set the stage has not seen, and a malformed block refused. */
+static void test_solve_report(void) {
+    const char *dir = test_temp_dir("sfs_solve_report");
+    frig_photoset *set = NULL, *back = NULL;
+    CHECK(frig_photoset_create(ctx, &set) == FRIG_OK);
+    if (!set || !dir) return;
+    const char *why = "x";
+    int photos = -1;
+    CHECK(frig_photoset_sfs_solve(set, &photos, NULL, &why) == FRIG_SFS_SOLVE_NONE && photos == 0 && !strcmp(why, ""));
+    const char *names[] = {"", "few_photos", "many_photos", "one_light_axis"};
+    for (int w = 0; w < 4; w++) {
+        fr_photoset_set_sfs_solve(set, w ? FRIG_SFS_SOLVE_LIGHT : FRIG_SFS_SOLVE_FULL, w, 10 + w, 0.25 * w);
+        CHECK(frig_photoset_save(ctx, set, dir) == FRIG_OK && frig_photoset_load(ctx, dir, &back) == FRIG_OK);
+        double axis = -1;
+        frig_sfs_solve solve = back ? frig_photoset_sfs_solve(back, &photos, &axis, &why) : FRIG_SFS_SOLVE_NONE;
+        CHECK(solve == (w ? FRIG_SFS_SOLVE_LIGHT : FRIG_SFS_SOLVE_FULL) && photos == 10 + w && axis == 0.25 * w &&
+              !strcmp(why, names[w]));
+        frig_photoset_free(back), back = NULL;
+    }
+    /* a block naming no solve is refused, with a sentence */
+    char path[4200];
+    snprintf(path, sizeof path, "%s/report.json", dir);
+    size_t size = 0;
+    unsigned char *text = test_read_file(path, &size);
+    char *at = text ? strstr((char *)text, "\"light\"") : NULL;
+    CHECK(at != NULL);
+    if (at) {
+        memcpy(at, "\"heavy\"", 7);
+        FILE *f = fopen(path, "wb");
+        CHECK(f && fwrite(text, 1, size, f) == size);
+        if (f) fclose(f);
+        CHECK(frig_photoset_load(ctx, dir, &back) == FRIG_ERR_CORRUPT && strstr(frig_ctx_errmsg(ctx), "\"sfs\""));
+        frig_photoset_free(back);
+    }
+    free(text);
+    frig_photoset_free(set);
+}
+
 static void test_joint_pose(void) {
     const char *dir;
     scene sc;
@@ -774,6 +826,7 @@ int main(void) {
     test_lighting();
     test_light_concentration();
     test_depth_solver();
+    test_solve_report();
     test_stage();
     test_joint_pose();
     test_pose_align();

@@ -130,6 +130,24 @@ FRIG_API frig_status frig_photoset_sfs_lighting(const frig_photoset *set, size_t
 FRIG_API frig_status frig_photoset_sfs_pose(const frig_photoset *set, size_t photo, double rotation[9],
                                             double translation[3]);
 
+/* Which solve the shape all photos share came from (docs/sfs.md, "J and the registration as the
+ * default"): the full solve (the views' agreement, the model's identity modes, each photo's
+ * registration and expression) or the light one (the shading's normals alone), which the stage
+ * takes when fewer photos than sfs.joint_min_photos or more than sfs.joint_max_photos are judged,
+ * or when the photos' lights fall on the face along one axis (sfs.joint_light). Of the stage's
+ * last run on the set. */
+typedef enum frig_sfs_solve {
+    FRIG_SFS_SOLVE_NONE = 0,  /* the sfs stage has not run on the set */
+    FRIG_SFS_SOLVE_FULL = 1,
+    FRIG_SFS_SOLVE_LIGHT = 2
+} frig_sfs_solve;
+/* The solve; photos: the photos it judged; light_axis: the lights' concentration along one axis
+ * (1: one axis, 1/3: spread evenly; the value sfs.joint_light is held against); why: for the light
+ * solve "few_photos", "many_photos" or "one_light_axis", else "" (a static string). Any output may
+ * be NULL; with FRIG_SFS_SOLVE_NONE they are 0, 0 and "". */
+FRIG_API frig_sfs_solve frig_photoset_sfs_solve(const frig_photoset *set, int *photos, double *light_axis,
+                                                const char **why);
+
 #ifdef __cplusplus
 }
 #endif

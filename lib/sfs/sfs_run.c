@@ -207,6 +207,8 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
     int light = n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0) ||
                 (st->joint_max_photos > 0 && n > (size_t)st->joint_max_photos);
     if (light) fr_sfs_light_shared_solve(&r->st);
+    if (light) r->light_why = n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0) ? FR_SFS_WHY_FEW_PHOTOS
+                                                                                                 : FR_SFS_WHY_MANY_PHOTOS;
     st = &r->st;
     r->photo = malloc(sizeof(size_t) * (n + 1));
     r->views = calloc(n + 1, sizeof *r->views);
@@ -268,10 +270,12 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
      * colours into the shape (docs/sfs.md, "One light for all photos"): the light solve. */
     double conc = 0;
     if (!s) s = fr_sfs_light_concentration(ctx, r->views, r->ok, r->n, &conc);
+    r->light_axis = conc;
     if (!s && !light && used && st->joint_light < 1 && conc > st->joint_light) { /* 1: never (rounding can pass 1) */
         fr_log(ctx, FRIG_LOG_INFO, "sfs: the photos' lights fall on the face along one axis (concentration %.3f "
                "over sfs.joint_light %.3g): the light shared solve", conc, st->joint_light);
         fr_sfs_light_shared_solve(&r->st);
+        r->light_why = FR_SFS_WHY_ONE_LIGHT_AXIS;
     } else if (!s)
         fr_log(ctx, FRIG_LOG_DEBUG, "sfs: the photos' lights on the face: concentration %.3f", conc);
     cpu[2] = fr_cpu_seconds();

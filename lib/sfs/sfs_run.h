@@ -21,6 +21,8 @@ typedef struct fr_sfs_run {
     double mean_albedo[3];
     float *vdisp;       /* per rig vertex: the multi-view displacement along its normal, metres (NULL: none) */
     double *ident;      /* with st.identity_count modes: the identity weights' change (mesh.ident its shape), else NULL */
+    int light_why;      /* fr_sfs_why: why the light shared solve ran (FR_SFS_WHY_NONE: the full solve) */
+    double light_axis;  /* the lights' concentration along one axis (fr_sfs_light_concentration) */
 } fr_sfs_run;
 
 frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photoset *set, const fr_sfs_settings *st,

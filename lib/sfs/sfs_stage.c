@@ -278,6 +278,8 @@ static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set,
         }
     }
     (void)usable;
+    if (!s) fr_photoset_set_sfs_solve(set, run.light_why ? FRIG_SFS_SOLVE_LIGHT : FRIG_SFS_SOLVE_FULL, run.light_why, run.n,
+                                      run.light_axis);
     if (!s && albedo) s = fr_sfs_run_albedo(ctx, &run, albedo);
     cpu[2] = fr_cpu_seconds();
     fr_log(ctx, FRIG_LOG_DEBUG, "sfs (CPU s): regions, poses, clouds%s %.2f, albedo texture %.2f",

@@ -71,6 +71,10 @@ struct frig_photoset {
     double *identity;
     int n_expressions;
     char **expression_names;
+    /* sfs: the shared solve of its last run (report.json "sfs"; frig_photoset_sfs_solve) */
+    int sfs_solve, sfs_photos; /* frig_sfs_solve; photos judged */
+    int sfs_why;               /* fr_sfs_why */
+    double sfs_light_axis;
     /* retarget: the outer loop's rounds (report.json "retarget") */
     int rt_rounds;
     fr_retarget_round *rt_round;
@@ -112,6 +116,10 @@ int fr_report_read_set_identity(frig_photoset *set, const void *json_root, char 
 /* Record one photo's shape-from-shading results (sfs_report.c). */
 void fr_photoset_set_sfs(fr_photo *p, int pixels, int kept, double error, const double lighting[27], const double R[9],
                          const double t[3]);
+/* Why the sfs stage took the light shared solve (frig_photoset_sfs_solve's why). */
+typedef enum fr_sfs_why { FR_SFS_WHY_NONE = 0, FR_SFS_WHY_FEW_PHOTOS, FR_SFS_WHY_MANY_PHOTOS, FR_SFS_WHY_ONE_LIGHT_AXIS } fr_sfs_why;
+/* Record the stage's shared solve (solve: frig_sfs_solve). */
+void fr_photoset_set_sfs_solve(frig_photoset *set, int solve, int why, int photos, double light_axis);
 /* The expression weights (set->n_expressions) sfs drew photo i's cloud at; NULL: the fit's. */
 frig_status fr_photoset_set_sfs_expression(frig_ctx *ctx, frig_photoset *set, size_t i, const double *weights);
 

@@ -115,6 +115,7 @@ frig_status frig_photoset_save(frig_ctx *ctx, const frig_photoset *set, const ch
         fr_json_end(&j);
         fr_json_end(&j);
     }
+    fr_report_write_set_sfs(&j, set);
     fr_retarget_report_write_set(&j, set);
     fr_report_write_set_identity(&j, set);
     fr_json_array(&j, "photos", 0);
@@ -314,6 +315,7 @@ frig_status frig_photoset_load(frig_ctx *ctx, const char *workspace, frig_photos
         if (!s) s = read_fit_spaces(ctx, path, set, root);
         for (const cJSON *jp = cJSON_IsArray(photos) ? photos->child : NULL; jp && !s; jp = jp->next, r.photo++)
             s = read_photo(&r, set, jp);
+        if (!s) s = fr_report_read_set_sfs(ctx, set, root);
         if (!s) s = fr_retarget_report_read_set(ctx, set, root);
         char why[256];
         if (!s && fr_report_read_set_identity(set, root, why, sizeof why))

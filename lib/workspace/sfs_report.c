@@ -4,6 +4,9 @@
  *           "lighting": [[9 R], [9 G], [9 B]], "rotation": [9], "translation": [3],
  *           "expression": {"jawOpen": 0.31, ...}: the weights the cloud was drawn at, by the fit's names, the
  *           non-zero ones; only when sfs refined them}
+ * and the set's (the shared solve of the stage's last run):
+ *   "sfs": {"shared_solve": "full" or "light", "why": "" / "few_photos" / "many_photos" / "one_light_axis",
+ *           "photos": 27 (judged), "light_axis": 0.571 (the lights' concentration along one axis)}
  * (docs/sfs.md, docs/workspace.md), and the photo set's accessors for them. */
 #include <math.h>
 #include <stdlib.h>
@@ -126,4 +129,53 @@ frig_status frig_photoset_sfs_pose(const frig_photoset *set, size_t i, double R[
     if (R) memcpy(R, p->sfs_rotation, sizeof p->sfs_rotation);
     if (t) memcpy(t, p->sfs_translation, sizeof p->sfs_translation);
     return FRIG_OK;
+}
+
+static const char *const why_names[] = {"", "few_photos", "many_photos", "one_light_axis"};
+static const char *const solve_names[] = {"", "full", "light"};
+
+void fr_photoset_set_sfs_solve(frig_photoset *set, int solve, int why, int photos, double light_axis) {
+    set->sfs_solve = solve >= FRIG_SFS_SOLVE_FULL && solve <= FRIG_SFS_SOLVE_LIGHT ? solve : FRIG_SFS_SOLVE_NONE;
+    set->sfs_why = set->sfs_solve == FRIG_SFS_SOLVE_LIGHT && why > 0 && why <= FR_SFS_WHY_ONE_LIGHT_AXIS ? why : 0;
+    set->sfs_photos = set->sfs_solve ? photos : 0;
+    set->sfs_light_axis = set->sfs_solve && isfinite(light_axis) ? light_axis : 0;
+}
+
+void fr_report_write_set_sfs(fr_json *j, const frig_photoset *set) {
+    if (!set->sfs_solve) return;
+    fr_json_object(j, "sfs");
+    fr_json_string(j, "shared_solve", solve_names[set->sfs_solve]);
+    fr_json_string(j, "why", why_names[set->sfs_why]);
+    fr_json_int(j, "photos", set->sfs_photos);
+    fr_json_number(j, "light_axis", set->sfs_light_axis);
+    fr_json_end(j);
+}
+
+static int name_index(const char *name, const char *const *names, int n) {
+    for (int k = 0; name && k < n; k++)
+        if (!strcmp(name, names[k])) return k;
+    return -1;
+}
+
+frig_status fr_report_read_set_sfs(frig_ctx *ctx, frig_photoset *set, const cJSON *root) {
+    const cJSON *b = cJSON_GetObjectItemCaseSensitive(root, "sfs");
+    if (!b) return FRIG_OK;
+    const cJSON *photos = cJSON_GetObjectItemCaseSensitive(b, "photos");
+    const cJSON *axis = cJSON_GetObjectItemCaseSensitive(b, "light_axis");
+    int solve = name_index(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(b, "shared_solve")), solve_names, 3);
+    int why = name_index(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(b, "why")), why_names, 4);
+    if (!cJSON_IsObject(b) || solve < FRIG_SFS_SOLVE_FULL || why < 0 || (why > 0 && solve != FRIG_SFS_SOLVE_LIGHT) ||
+        !cJSON_IsNumber(photos) || !(photos->valuedouble >= 0 && photos->valuedouble <= 1e9) || !cJSON_IsNumber(axis) ||
+        !(axis->valuedouble >= 0 && axis->valuedouble <= 1.5))
+        return fr_error(ctx, FRIG_ERR_CORRUPT, "report.json: a malformed \"sfs\" block (the shared solve)");
+    fr_photoset_set_sfs_solve(set, solve, why, photos->valueint, axis->valuedouble);
+    return FRIG_OK;
+}
+
+frig_sfs_solve frig_photoset_sfs_solve(const frig_photoset *set, int *photos, double *light_axis, const char **why) {
+    int solve = set ? set->sfs_solve : FRIG_SFS_SOLVE_NONE;
+    if (photos) *photos = solve ? set->sfs_photos : 0;
+    if (light_axis) *light_axis = solve ? set->sfs_light_axis : 0;
+    if (why) *why = solve ? why_names[set->sfs_why] : "";
+    return (frig_sfs_solve)solve;
 }
