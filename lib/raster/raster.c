@@ -103,16 +103,36 @@ static int clipped_bbox(const fr_camera *cam, const double P[3][3], double near,
     return 1;
 }
 
+/* The pixel box of the corners' image positions uv when every corner is at z >= near (the box
+ * tri_setup draws in then): 1, or 0 when it holds no pixel; -1 when a corner is nearer (or its z
+ * not a number). */
+static int corner_box(const float *const p[3], const double *const uv[3], double near, int width, int height,
+                      fr_raster_tri *t) {
+    for (int i = 0; i < 3; i++)
+        if (!(p[i][2] >= near)) return -1;
+    double box[4];
+    box[0] = min2(uv[0][0], min2(uv[1][0], uv[2][0]));
+    box[2] = max2(uv[0][0], max2(uv[1][0], uv[2][0]));
+    box[1] = min2(uv[0][1], min2(uv[1][1], uv[2][1]));
+    box[3] = max2(uv[0][1], max2(uv[1][1], uv[2][1]));
+    return pixel_range(box[0], box[2], width, &t->x0, &t->x1) && pixel_range(box[1], box[3], height, &t->y0, &t->y1);
+}
+
 /* The set-up shared by fr_raster_tri_setup and the renderer; uv (may be NULL) holds the
- * corners' image positions when the caller has them (used only when all are at z >= near). */
+ * corners' image positions when the caller has them (used only when all are at z >= near).
+ * With uv the pixel box comes first and the first cross product (the facing) before the other
+ * two: a triangle off the image or facing away costs least (the outcome is the same). */
 static int tri_setup(const fr_camera *cam, const float *const p[3], const double *const uv[3],
                      const fr_raster_options *opt, int width, int height, fr_raster_tri *t) {
     double P[3][3];
+    double near = opt ? opt->near : FR_RASTER_DEFAULT_NEAR;
+    if (!(near > MIN_NEAR)) near = MIN_NEAR;
+    /* with uv and every corner in front: the box tri_setup would end with (uv's), now */
+    int boxed = !cam->weak && uv ? corner_box(p, uv, near, width, height, t) : -1;
+    if (boxed == 0) return 0;
     for (int i = 0; i < 3; i++)
         for (int k = 0; k < 3; k++)
             if (!isfinite(p[i][k])) return 0;
-    double near = opt ? opt->near : FR_RASTER_DEFAULT_NEAR;
-    if (!(near > MIN_NEAR)) near = MIN_NEAR;
     int cull = opt ? opt->cull_back : 0;
     t->weak = cam->weak;
     t->near = near;
@@ -131,12 +151,14 @@ static int tri_setup(const fr_camera *cam, const float *const p[3], const double
     if (!cam->weak && t->zmax < near) return 0;
     /* e_i is the edge opposite corner i: P_{i+1} x P_{i+2}; det = P0 . (P1 x P2) */
     double cr[3][3];
-    for (int i = 0; i < 3; i++) cross3(P[(i + 1) % 3], P[(i + 2) % 3], cr[i]);
+    cross3(P[1], P[2], cr[0]);
     double det = dot3(P[0], cr[0]);
     double bound2 = cam->weak ? 0.0 : EDGE_ON * EDGE_ON * dot3(P[0], P[0]) * dot3(P[1], P[1]) * dot3(P[2], P[2]);
     if (!(det * det > bound2) || det == 0.0) return 0;
     /* det < 0: counter-clockwise in the image = facing the camera */
     if (cull && det > 0.0) return 0;
+    cross3(P[2], P[0], cr[1]);
+    cross3(P[0], P[1], cr[2]);
     double sgn = det < 0.0 ? -1.0 : 1.0;
     for (int i = 0; i < 3; i++) {
         double c0 = sgn * cr[i][0], c1 = sgn * cr[i][1], c2 = sgn * cr[i][2];
@@ -146,6 +168,7 @@ static int tri_setup(const fr_camera *cam, const float *const p[3], const double
         t->tie[i] = (unsigned char)(c0 > 0.0 || (c0 == 0.0 && c1 > 0.0));
     }
     t->zk = cam->weak ? 0.0 : cam->f * fabs(det);
+    if (boxed == 1) return 1;
     double box[4], q[3][2];
     if (cam->weak || t->zmin >= near) {
         for (int i = 0; i < 3; i++) {
