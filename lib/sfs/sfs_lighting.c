@@ -35,29 +35,73 @@ void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[
     }
 }
 
+typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
+
+/* acc[h] += w[j] x[stride j + h] for the rows j < m in order, h < width (even): eight sums at a
+ * time held in registers over the rows. */
+static void weighted_rows(const double *w, const double *x, int stride, int m, int width, double *acc) {
+    int h = 0;
+    for (; h + 8 <= width; h += 8) {
+        v2d a0, a1, a2, a3;
+        memcpy(&a0, acc + h, sizeof a0), memcpy(&a1, acc + h + 2, sizeof a1);
+        memcpy(&a2, acc + h + 4, sizeof a2), memcpy(&a3, acc + h + 6, sizeof a3);
+        for (int j = 0; j < m; j++) {
+            const double *p = x + (size_t)stride * j + h;
+            v2d ww = {w[j], w[j]}, x0, x1, x2, x3;
+            memcpy(&x0, p, sizeof x0), memcpy(&x1, p + 2, sizeof x1), memcpy(&x2, p + 4, sizeof x2);
+            memcpy(&x3, p + 6, sizeof x3);
+            a0 = a0 + ww * x0, a1 = a1 + ww * x1, a2 = a2 + ww * x2, a3 = a3 + ww * x3;
+        }
+        memcpy(acc + h, &a0, sizeof a0), memcpy(acc + h + 2, &a1, sizeof a1);
+        memcpy(acc + h + 4, &a2, sizeof a2), memcpy(acc + h + 6, &a3, sizeof a3);
+    }
+    for (; h + 2 <= width; h += 2) {
+        v2d a0;
+        memcpy(&a0, acc + h, sizeof a0);
+        for (int j = 0; j < m; j++) {
+            v2d ww = {w[j], w[j]}, x0;
+            memcpy(&x0, x + (size_t)stride * j + h, sizeof x0);
+            a0 = a0 + ww * x0;
+        }
+        memcpy(acc + h, &a0, sizeof a0);
+    }
+}
+
 /* Per channel the weighted moments M = sum w a^2 Y Y^T and b = sum w a I Y. The lower triangle is
- * summed packed (45 running sums per channel, each over the pixels in order: the compiler keeps
- * them in vector registers), then unpacked. */
+ * summed packed (45 running sums per channel, each over the pixels in order), a chunk of pixels
+ * at a time (their products y y^T and weights gathered, then each run of sums over the chunk in
+ * registers: weighted_rows), then unpacked. */
 static void moments(int n, const uint8_t *mask, const float *I, const float *albedo, const float *normals,
                     const float *wt, const float *robust, double M[3][FR_SH_COUNT * FR_SH_COUNT],
                     double b[3][FR_SH_COUNT]) {
-    enum { NL = FR_SH_COUNT * (FR_SH_COUNT + 1) / 2 };
-    double L[3][NL], B[3][FR_SH_COUNT];
+    enum { NL = FR_SH_COUNT * (FR_SH_COUNT + 1) / 2, WL = NL + 1, WB = FR_SH_COUNT + 1, CHUNK = 32 };
+    double L[3][WL], B[3][WB];
+    double yy[CHUNK][WL], ys[CHUNK][WB], wa2[3][CHUNK], wai[3][CHUNK]; /* the chunk (the last column 0) */
     memset(L, 0, sizeof L), memset(B, 0, sizeof B);
-    for (int i = 0; i < n; i++) {
+    int m = 0;
+    for (int i = 0; i <= n; i++) {
+        if (m == CHUNK || (i == n && m)) {
+            for (int c = 0; c < 3; c++) {
+                weighted_rows(wai[c], &ys[0][0], WB, m, WB, B[c]);
+                weighted_rows(wa2[c], &yy[0][0], WL, m, WL, L[c]);
+            }
+            m = 0;
+        }
+        if (i == n) break;
         if (mask && !mask[i]) continue;
         double w = (wt ? wt[i] : 1.0) * (robust ? robust[i] : 1.0);
         if (!(w > 0)) continue;
-        double nd[3] = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]}, y[FR_SH_COUNT];
-        double yy[NL]; /* the lower triangle of y y^T, shared by the channels */
+        double nd[3] = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]}, *y = ys[m];
         fr_sh_basis(nd, y);
+        y[FR_SH_COUNT] = 0;
         for (int k = 0, h = 0; k < FR_SH_COUNT; k++)
-            for (int l = 0; l <= k; l++, h++) yy[h] = y[k] * y[l];
+            for (int l = 0; l <= k; l++, h++) yy[m][h] = y[k] * y[l];
+        yy[m][NL] = 0;
         for (int c = 0; c < 3; c++) {
-            double a = albedo[3 * i + c], wa2 = w * a * a, wai = w * a * I[3 * i + c];
-            for (int k = 0; k < FR_SH_COUNT; k++) B[c][k] += wai * y[k];
-            for (int h = 0; h < NL; h++) L[c][h] += wa2 * yy[h];
+            double a = albedo[3 * i + c];
+            wa2[c][m] = w * a * a, wai[c][m] = w * a * I[3 * i + c];
         }
+        m++;
     }
     for (int c = 0; c < 3; c++)
         for (int k = 0, h = 0; k < FR_SH_COUNT; k++) {
