@@ -371,6 +371,21 @@ static void ident_z(const mv *s, int t, const int u[FR_SFS_STENCIL], const doubl
     }
 }
 
+typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
+
+/* y[i] += a x[i], i < n: two entries at a time (the same operations per entry). */
+static inline void axpy_run(double *y, double a, const double *x, int n) {
+    v2d aa = {a, a};
+    int i = 0;
+    for (; i + 2 <= n; i += 2) {
+        v2d yv, xv;
+        memcpy(&yv, y + i, sizeof yv), memcpy(&xv, x + i, sizeof xv);
+        yv = yv + aa * xv;
+        memcpy(y + i, &yv, sizeof yv);
+    }
+    if (i < n) y[i] += a * x[i];
+}
+
 /* Per texel at displacement D and albedo: the 6 Hessian entries and 3 gradient entries of its
  * data terms (all photos); with the joint albedo, the texel's albedo eliminated (its Schur
  * complement has the same stencil) and its terms kept for the back-substitution; and the data
@@ -404,12 +419,11 @@ static double texel_normal_equations(const mv *s, const double *D, const double 
             double j[NS];
             for (int q = 0; q < NS; q++) j[q] = a / sc * (G[c][0] * dN[q][0] + G[c][1] * dN[q][1] + G[c][2] * dN[q][2]);
             j[0] -= p->dI[3 * (size_t)t + c] / sc;
-            for (int q = 0, h = 0; q < NS; q++)
-                for (int b = q; b < NS; b++, h++) H[h] += w * j[q] * j[b];
+            for (int q = 0, h = 0; q < NS; h += NS - q, q++) axpy_run(H + h, w * j[q], j + q, NS - q);
             for (int q = 0; q < NS; q++) g[q] += w * j[q] * r;
             double ja = S[c] / sc;
             Haa[c] += w * ja * ja, ga[c] += w * ja * r;
-            for (int q = 0; q < NS; q++) HaD[NS * c + q] += w * ja * j[q];
+            axpy_run(HaD + NS * c, w * ja, j, NS);
             if (!id) continue;
             /* by the stencil points' positions: N = c / |c|, c = s (ex x ey) + K, ex = P(right) - P(left),
              * ey = P(down) - P(up); d r / d c = a / sc (G - (G.N) N) / |c| =: gn, so d r / d P(right) =
@@ -421,16 +435,13 @@ static double texel_normal_equations(const mv *s, const double *D, const double 
             fr_sfs_cross(sec + 3, gn, z);
             fr_sfs_cross(gn, sec, z + 3);
             for (int q = 0; q < 3; q++) z[6 + q] = p->gP ? -p->gP[9 * (size_t)t + 3 * c + q] / sc : 0.0;
-            for (int q = 0, h = 0; q < NZ; q++) {
+            for (int q = 0, h = 0; q < NZ; h += NZ - q, q++) {
                 double wq = w * z[q];
-                for (int b = q; b < NZ; b++, h++) Z[h] += wq * z[b];
+                axpy_run(Z + h, wq, z + q, NZ - q);
                 gz[q] += wq * r;
                 Hz[NZ * c + q] += wq * ja;
             }
-            for (int q = 0; q < NS; q++) {
-                double wq = w * j[q];
-                for (int b = 0; b < NZ; b++) Bz[NZ * q + b] += wq * z[b];
-            }
+            for (int q = 0; q < NS; q++) axpy_run(Bz + NZ * q, w * j[q], z, NZ);
         }
     }
     if (!s->o->joint_albedo)
