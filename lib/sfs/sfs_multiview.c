@@ -585,6 +585,36 @@ static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr) {
     return st;
 }
 
+/* out[m] += sum over i < n of coef[i] rows[M i + m] (the terms of coef[i] == 0 left out), m < M,
+ * the terms added in order of i: eight sums at a time held in registers. */
+static void combine_rows(const double *coef, const double *rows, int n, int M, double *out) {
+    double cf[NZ];
+    const double *rp[NZ];
+    int k = 0;
+    for (int i = 0; i < n; i++)
+        if (coef[i] != 0) cf[k] = coef[i], rp[k++] = rows + (size_t)M * i;
+    int m = 0;
+    for (; m + 8 <= M; m += 8) {
+        v2d a0, a1, a2, a3;
+        memcpy(&a0, out + m, sizeof a0), memcpy(&a1, out + m + 2, sizeof a1);
+        memcpy(&a2, out + m + 4, sizeof a2), memcpy(&a3, out + m + 6, sizeof a3);
+        for (int i = 0; i < k; i++) {
+            const double *x = rp[i] + m;
+            v2d c = {cf[i], cf[i]}, x0, x1, x2, x3;
+            memcpy(&x0, x, sizeof x0), memcpy(&x1, x + 2, sizeof x1), memcpy(&x2, x + 4, sizeof x2);
+            memcpy(&x3, x + 6, sizeof x3);
+            a0 = a0 + c * x0, a1 = a1 + c * x1, a2 = a2 + c * x2, a3 = a3 + c * x3;
+        }
+        memcpy(out + m, &a0, sizeof a0), memcpy(out + m + 2, &a1, sizeof a1);
+        memcpy(out + m + 4, &a2, sizeof a2), memcpy(out + m + 6, &a3, sizeof a3);
+    }
+    for (; m < M; m++) {
+        double a = out[m];
+        for (int i = 0; i < k; i++) a += cf[i] * rp[i][m];
+        out[m] = a;
+    }
+}
+
 /* The identity's equations at the current point from the texels' (eq[cur]): C = H_Db (nt x M),
  * Hbb = sum_t V^T Z V with V = E^T U over each texel's stencil points (9 x M: U's rows at the
  * points combined as z combines them, ident_rows), gb, with the prior's terms (energy
@@ -632,12 +662,7 @@ static void assemble_ident(mv *s) {
         for (int i = 0; i < NZ; i++) {
             double *w = wr + (size_t)M * i;
             memset(w, 0, sizeof(double) * (size_t)M);
-            for (int i2 = 0; i2 < NZ; i2++) {
-                double a = Zf[NZ * i + i2];
-                if (a == 0) continue;
-                const double *x = vr + (size_t)M * i2;
-                for (int m = 0; m < M; m++) w[m] += a * x[m];
-            }
+            combine_rows(Zf + NZ * i, vr, NZ, M, w);
             const double *x = vr + (size_t)M * i;
             for (int m = 0; m < M; m++) s->gb[m] += x[m] * gz[i];
         }
@@ -645,13 +670,7 @@ static void assemble_ident(mv *s) {
         /* C's rows at the stencil: Bz (5 x 9) V */
         for (int a = 0; a < NS; a++) {
             if (u[a] < 0) continue;
-            const double *br = Bz + NZ * a;
-            double *cr = Cr + (size_t)M * u[a];
-            for (int i = 0; i < NZ; i++) {
-                if (br[i] == 0) continue;
-                const double *x = vr + (size_t)M * i;
-                for (int m = 0; m < M; m++) cr[m] += br[i] * x[m];
-            }
+            combine_rows(Bz + NZ * a, vr, NZ, M, Cr + (size_t)M * u[a]);
         }
     }
     for (size_t t = 0; t < nt; t++)
