@@ -60,7 +60,7 @@ typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang
 
 typedef struct scratch {
     double *dN; /* 3 per active shape */
-    double *dP; /* 3 per active shape: the texel point's change */
+    double *dP; /* 2 per active shape: the texel point's image motion (u, v: J R dP), the same for the channels */
     double *jr; /* 3 x active: each channel's residual derivative by each active shape */
 } scratch;
 
@@ -178,7 +178,10 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
                 const float *dd = g->dX + 3 * ((size_t)e4[3] * na + (size_t)j);
                 double dex[3], dey[3], c1[3], c2[3], dc[3];
                 for (int q = 0; q < 3; q++)
-                    dex[q] = dr[q] - dl[q], dey[q] = dd[q] - du[q], sc->dP[3 * a + q] = d0[q];
+                    dex[q] = dr[q] - dl[q], dey[q] = dd[q] - du[q];
+                double dp[3] = {d0[0], d0[1], d0[2]};
+                sc->dP[2 * a] = Jp[0] * dp[0] + Jp[1] * dp[1] + Jp[2] * dp[2];
+                sc->dP[2 * a + 1] = Jp[3] * dp[0] + Jp[4] * dp[1] + Jp[5] * dp[2];
                 cross(dex, ey, c1), cross(ex, dey, c2);
                 for (int q = 0; q < 3; q++)
                     dc[q] = sg * (c1[q] + c2[q]);
@@ -201,11 +204,9 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
                 continue;
             double *jr = sc->jr + (size_t)ch * na;
             for (int a = 0; a < nl; a++) {
-                const double *dn = sc->dN + 3 * a, *dp = sc->dP + 3 * a;
+                const double *dn = sc->dN + 3 * a, *duv = sc->dP + 2 * a;
                 double js = alb * (G[ch][0] * dn[0] + G[ch][1] * dn[1] + G[ch][2] * dn[2]);
-                double du = Jp[0] * dp[0] + Jp[1] * dp[1] + Jp[2] * dp[2];
-                double dv = Jp[3] * dp[0] + Jp[4] * dp[1] + Jp[5] * dp[2];
-                jr[a] = (js - (gx[ch] * du + gy[ch] * dv)) / scale;
+                jr[a] = (js - (gx[ch] * duv[0] + gy[ch] * duv[1])) / scale;
             }
         }
         if (H)
