@@ -20,10 +20,6 @@ void fr_mat3_transpose(const double A[9], double At[9]) {
         for (int j = 0; j < 3; j++) At[3 * j + i] = A[3 * i + j];
 }
 
-void fr_mat3_apply(const double A[9], const double v[3], double Av[3]) {
-    for (int i = 0; i < 3; i++) Av[i] = A[3 * i] * v[0] + A[3 * i + 1] * v[1] + A[3 * i + 2] * v[2];
-}
-
 static void cross3(const double a[3], const double b[3], double c[3]) {
     c[0] = a[1] * b[2] - a[2] * b[1];
     c[1] = a[2] * b[0] - a[0] * b[2];

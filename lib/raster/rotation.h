@@ -34,6 +34,10 @@ double fr_rotation_angle_deg(const double A[9], const double B[9]);
 /* Small helpers. */
 void fr_mat3_mul(const double A[9], const double B[9], double AB[9]);
 void fr_mat3_transpose(const double A[9], double At[9]);
-void fr_mat3_apply(const double A[9], const double v[3], double Av[3]);
+
+/* Av = A v. Inline: the shape-from-shading loops call it per texel and pixel. */
+static inline void fr_mat3_apply(const double A[9], const double v[3], double Av[3]) {
+    for (int i = 0; i < 3; i++) Av[i] = A[3 * i] * v[0] + A[3 * i + 1] * v[1] + A[3 * i + 2] * v[2];
+}
 
 #endif
