@@ -281,9 +281,22 @@ static double edge_strength(const level *L, const double xy[2], const double nu[
 /* Each contour point at the pose (A, tc) paired with the strongest edge of the blurred photo
  * along its outward direction, within a window of the blur's size (nearer edges preferred);
  * points whose best edge is weak (below a quarter of the median best) get no weight. */
+static double preference(double sd, double win) {
+    return exp(-0.5 * sd * sd / (win * win));
+}
+
 static void contour_targets(level *L, const double A[9], const double tc[3], double *scratch) {
     double win = 2 * L->sigma + 3, step = 0.5;
-    int m = 0;
+    int m = 0, ns = 0;
+    /* the preference of each offset along the search, the same for every point (NULL: each time) */
+    for (double sd = -win; sd <= win + 1e-9; sd += step)
+        ns++;
+    double *pref = malloc(sizeof(double) * ((size_t)ns + 1));
+    if (pref) {
+        int i = 0;
+        for (double sd = -win; sd <= win + 1e-9; sd += step)
+            pref[i++] = preference(sd, win);
+    }
     for (int j = 0; j < L->nc; j++) {
         double q[3], X[3], xy[2];
         const double *nu = L->cnu + 2 * (size_t)j;
@@ -293,10 +306,11 @@ static void contour_targets(level *L, const double A[9], const double tc[3], dou
         L->cw[j] = 0;
         if (!fr_camera_project(&L->v->cam, X, xy)) continue;
         double best = -1, best_s = 0, best_e = 0;
-        for (double sd = -win; sd <= win + 1e-9; sd += step) {
+        int i = 0;
+        for (double sd = -win; sd <= win + 1e-9; sd += step, i++) {
             double p[2] = {xy[0] + sd * nu[0], xy[1] + sd * nu[1]};
             if (p[0] < 1 || p[1] < 1 || p[0] > L->v->w - 2 || p[1] > L->v->h - 2) continue;
-            double e = edge_strength(L, p, nu), score = e * exp(-0.5 * sd * sd / (win * win));
+            double e = edge_strength(L, p, nu), score = e * (pref ? pref[i] : preference(sd, win));
             if (score > best) best = score, best_s = sd, best_e = e;
         }
         if (best < 0) continue;
@@ -304,6 +318,7 @@ static void contour_targets(level *L, const double A[9], const double tc[3], dou
         L->cw[j] = best_e;
         scratch[m++] = best_e;
     }
+    free(pref);
     if (!m) return;
     qsort(scratch, (size_t)m, sizeof *scratch, cmp_double);
     double med = scratch[m / 2];
