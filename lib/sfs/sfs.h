@@ -138,6 +138,12 @@ typedef struct fr_sfs_view {
     double photo_weight; /* weight of the photo's observations in the shared albedo and shape (from agreement) */
     double R_refined[9], t_refined[3];
     double pose_change_deg;
+    /* what the rig's buffers above were drawn with (fr_sfs_view_render; drawn 0: unknown): the pose,
+     * the weights, the displacement and the mesh's identity change (copies; NULL when none) */
+    int drawn;
+    double drawn_R[9], drawn_t[3];
+    double *drawn_weights;
+    float *drawn_disp, *drawn_ident;
 } fr_sfs_view;
 
 /* Read photo p of the set, crop it around the face and render the rig at the photo's fit into

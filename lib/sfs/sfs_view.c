@@ -22,6 +22,7 @@ void fr_sfs_view_free(fr_sfs_view *v) {
     free(v->weights), free(v->xyz_cam), free(v->vn_cam), free(v->zbuf), free(v->n_prior), free(v->I), free(v->rgb), free(v->inside);
     free(v->z_ref), free(v->z_fit), free(v->n_ref), free(v->tri), free(v->bary), free(v->face), free(v->core), free(v->skin);
     free(v->albedo), free(v->z), free(v->normal), free(v->err), free(v->kept), free(v->confidence);
+    free(v->drawn_weights), free(v->drawn_disp), free(v->drawn_ident);
     memset(v, 0, sizeof *v);
 }
 
@@ -53,8 +54,50 @@ static frig_status alloc_buffers(frig_ctx *ctx, fr_sfs_view *v) {
     return FRIG_OK;
 }
 
+/* n floats at a and b the same bytes (both NULL, or neither). */
+static int same_floats(const float *a, const float *b, size_t n) {
+    return !a == !b && (!a || !memcmp(a, b, sizeof(float) * n));
+}
+
+/* Whether the view's buffers hold the drawing of the rig at (R, t, disp) with its weights and the
+ * mesh's identity change now. */
+static int drawn_already(const fr_sfs_mesh *m, const fr_sfs_view *v, const double R[9], const double t[3],
+                         const float *disp) {
+    return v->drawn && !memcmp(v->drawn_R, R, sizeof v->drawn_R) && !memcmp(v->drawn_t, t, sizeof v->drawn_t) &&
+           !memcmp(v->drawn_weights, v->weights, sizeof(double) * (size_t)m->shapes) &&
+           same_floats(v->drawn_disp, disp, (size_t)m->nv) && same_floats(v->drawn_ident, m->ident, 3 * (size_t)m->nv);
+}
+
+/* A copy of n floats into *keep (allocated once; NULL when src is); 0 when out of memory. */
+static int keep_floats(float **keep, const float *src, size_t n) {
+    if (!src) {
+        free(*keep), *keep = NULL;
+        return 1;
+    }
+    if (!*keep && !(*keep = malloc(sizeof(float) * n))) return 0;
+    memcpy(*keep, src, sizeof(float) * n);
+    return 1;
+}
+
+/* The drawing's inputs recorded (drawn_already); without memory, none (drawn 0). */
+static void record_drawing(const fr_sfs_mesh *m, fr_sfs_view *v, const double R[9], const double t[3],
+                           const float *disp) {
+    v->drawn = 0;
+    if (!v->drawn_weights && !(v->drawn_weights = malloc(sizeof(double) * ((size_t)m->shapes + 1)))) return;
+    if (!keep_floats(&v->drawn_disp, disp, (size_t)m->nv) || !keep_floats(&v->drawn_ident, m->ident, 3 * (size_t)m->nv))
+        return;
+    memcpy(v->drawn_weights, v->weights, sizeof(double) * (size_t)m->shapes);
+    memcpy(v->drawn_R, R, sizeof v->drawn_R), memcpy(v->drawn_t, t, sizeof v->drawn_t);
+    v->drawn = 1;
+}
+
 frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view *v, const double R[9],
                                const double t[3], const float *disp) {
+    if (drawn_already(m, v, R, t, disp)) { /* the buffers hold this drawing: the pose is all that changes */
+        memcpy(v->R, R, sizeof v->R), memcpy(v->t, t, sizeof v->t);
+        return FRIG_OK;
+    }
+    v->drawn = 0;
     float *xyz = malloc(sizeof(float) * 3 * (size_t)m->nv), *nrm = v->vn_cam;
     fr_raster *r = NULL;
     frig_status s = !xyz ? fr_nomem(ctx, "the posed rig") : FRIG_OK;
@@ -103,6 +146,7 @@ frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view 
                 v->core[i] = v->face[i] && m->core[tr];
             }
     }
+    if (!s) record_drawing(m, v, R, t, disp);
     fr_raster_free(r);
     free(xyz);
     return s;
