@@ -771,30 +771,60 @@ static void set_damping(mv *s, double mu, fr_triplets *tr) {
     for (int t = 0; t < s->nt; t++) tr->x[s->damped[t]] = s->o->w_anchor + mu;
 }
 
-/* Albedo of each texel given the displacement: a_c = sum w S I / sum w S^2 (robust). */
+/* Photo k's observation of texel t for the albedo: the shading S of its normal at D (the rig's
+ * where it has none), what it shows there I, its scale sc and weight pw; 0 when k does not see t. */
+static int albedo_obs(const mv *s, int k, int t, double S[3], double I[3], double *sc, double *pw) {
+    const photo_texels *p = &s->pt[k];
+    if (!s->use[k] || !(p->w[t] > 0)) return 0;
+    double N[3];
+    if (!texel_normal(s, s->D, k, t, N, NULL))
+        for (int q = 0; q < 3; q++) N[q] = p->n[3 * t + q];
+    fr_sfs_shade_head(&s->views[k], N, S, NULL);
+    observed(s, p, s->D, t, I);
+    *sc = obs_scale(s, p->I + 3 * (size_t)t);
+    *pw = p->w[t];
+    return 1;
+}
+
+/* One observation's terms of texel t's albedo (pass 1: Tukey-weighted at the albedo now). */
+static void albedo_terms(const mv *s, int t, int pass, const double S[3], const double I[3], double sc, double pw,
+                         double num[3], double den[3]) {
+    for (int c = 0; c < 3; c++) {
+        double w = pw / (sc * sc);
+        if (pass) w *= fr_sfs_tukey_w((s->albedo[3 * t + c] * S[c] - I[c]) / sc);
+        num[c] += w * S[c] * I[c], den[c] += w * S[c] * S[c];
+    }
+}
+
+/* Albedo of each texel given the displacement: a_c = sum w S I / sum w S^2 (robust). The photos'
+ * observations are found once for both passes (each thread's ob: 8 per photo; without it, again). */
 static void update_albedo(mv *s, int threads) {
-#pragma omp parallel for schedule(dynamic, 64) num_threads(threads)
-    for (int t = 0; t < s->nt; t++) {
-        for (int pass = 0; pass < 2; pass++) {
-            double num[3] = {0, 0, 0}, den[3] = {0, 0, 0}, N[3], S[3];
-            for (int k = 0; k < s->nviews; k++) {
-                const photo_texels *p = &s->pt[k];
-                if (!s->use[k] || !(p->w[t] > 0)) continue;
-                if (!texel_normal(s, s->D, k, t, N, NULL))
-                    for (int q = 0; q < 3; q++) N[q] = p->n[3 * t + q];
-                fr_sfs_shade_head(&s->views[k], N, S, NULL);
-                double I[3];
-                observed(s, p, s->D, t, I);
-                double sc = obs_scale(s, p->I + 3 * (size_t)t);
-                for (int c = 0; c < 3; c++) {
-                    double w = p->w[t] / (sc * sc);
-                    if (pass) w *= fr_sfs_tukey_w((s->albedo[3 * t + c] * S[c] - I[c]) / sc);
-                    num[c] += w * S[c] * I[c], den[c] += w * S[c] * S[c];
-                }
+#pragma omp parallel num_threads(threads)
+    {
+        double *ob = malloc(sizeof(double) * 8 * ((size_t)s->nviews + 1));
+#pragma omp for schedule(dynamic, 64)
+        for (int t = 0; t < s->nt; t++) {
+            int n = 0; /* observations kept in ob */
+            for (int pass = 0; pass < 2; pass++) {
+                double num[3] = {0, 0, 0}, den[3] = {0, 0, 0}, S[3], I[3], sc, pw;
+                if (pass && ob)
+                    for (int j = 0; j < n; j++) {
+                        const double *o = ob + 8 * (size_t)j;
+                        albedo_terms(s, t, pass, o, o + 3, o[6], o[7], num, den);
+                    }
+                else
+                    for (int k = 0; k < s->nviews; k++) {
+                        if (!albedo_obs(s, k, t, S, I, &sc, &pw)) continue;
+                        albedo_terms(s, t, pass, S, I, sc, pw, num, den);
+                        if (!ob) continue;
+                        double *o = ob + 8 * (size_t)n++;
+                        memcpy(o, S, sizeof S), memcpy(o + 3, I, sizeof I), o[6] = sc, o[7] = pw;
+                    }
+                for (int c = 0; c < 3; c++)
+                    if (den[c] > 0) s->albedo[3 * t + c] = (float)(num[c] / den[c]);
             }
-            for (int c = 0; c < 3; c++)
-                if (den[c] > 0) s->albedo[3 * t + c] = (float)(num[c] / den[c]);
         }
+        free(ob);
     }
 }
 
