@@ -386,6 +386,21 @@ static inline void axpy_run(double *y, double a, const double *x, int n) {
     if (i < n) y[i] += a * x[i];
 }
 
+/* y[i] += a0 x0[i], then a1 x1[i], then a2 x2[i] (three axpy_run passes in one), i < n. */
+static inline void axpy3_run(double *y, double a0, double a1, double a2, const double *x0, const double *x1,
+                             const double *x2, int n) {
+    v2d b0 = {a0, a0}, b1 = {a1, a1}, b2 = {a2, a2};
+    int i = 0;
+    for (; i + 2 <= n; i += 2) {
+        v2d yv, v0, v1, v2;
+        memcpy(&yv, y + i, sizeof yv), memcpy(&v0, x0 + i, sizeof v0), memcpy(&v1, x1 + i, sizeof v1);
+        memcpy(&v2, x2 + i, sizeof v2);
+        yv = yv + b0 * v0, yv = yv + b1 * v1, yv = yv + b2 * v2;
+        memcpy(y + i, &yv, sizeof yv);
+    }
+    if (i < n) y[i] = y[i] + a0 * x0[i] + a1 * x1[i] + a2 * x2[i];
+}
+
 /* Per texel at displacement D and albedo: the 6 Hessian entries and 3 gradient entries of its
  * data terms (all photos); with the joint albedo, the texel's albedo eliminated (its Schur
  * complement has the same stencil) and its terms kept for the back-substitution; and the data
@@ -413,36 +428,42 @@ static double texel_normal_equations(const mv *s, const double *D, const double 
         double I[3];
         observed_at(s, p, D, Xb, t, I);
         double sc = obs_scale(s, p->I + 3 * (size_t)t);
+        double j[3][NS], wj[3][NS], z[3][NZ], wz[3][NZ]; /* per channel: derivatives, and times the weight */
         for (int c = 0; c < 3; c++) {
             double a = albedo[3 * t + c], r = (a * S[c] - I[c]) / sc, w = p->w[t] * fr_sfs_tukey_w(r);
             e += p->w[t] * fr_sfs_tukey_rho(r);
-            double j[NS];
-            for (int q = 0; q < NS; q++) j[q] = a / sc * (G[c][0] * dN[q][0] + G[c][1] * dN[q][1] + G[c][2] * dN[q][2]);
-            j[0] -= p->dI[3 * (size_t)t + c] / sc;
-            for (int q = 0, h = 0; q < NS; h += NS - q, q++) axpy_run(H + h, w * j[q], j + q, NS - q);
-            for (int q = 0; q < NS; q++) g[q] += w * j[q] * r;
+            double *jc = j[c];
+            for (int q = 0; q < NS; q++) jc[q] = a / sc * (G[c][0] * dN[q][0] + G[c][1] * dN[q][1] + G[c][2] * dN[q][2]);
+            jc[0] -= p->dI[3 * (size_t)t + c] / sc;
+            for (int q = 0; q < NS; q++) wj[c][q] = w * jc[q];
+            for (int q = 0; q < NS; q++) g[q] += w * jc[q] * r;
             double ja = S[c] / sc;
             Haa[c] += w * ja * ja, ga[c] += w * ja * r;
-            axpy_run(HaD + NS * c, w * ja, j, NS);
+            axpy_run(HaD + NS * c, w * ja, jc, NS);
             if (!id) continue;
             /* by the stencil points' positions: N = c / |c|, c = s (ex x ey) + K, ex = P(right) - P(left),
              * ey = P(down) - P(up); d r / d c = a / sc (G - (G.N) N) / |c| =: gn, so d r / d P(right) =
              * s ey x gn (minus that at the left), d r / d P(down) = s gn x ex (minus that at the top);
              * and the stereo term at the centre: z = (ey x gn, gn x ex, -dI/dP / sc) */
-            double z[NZ], gn[3], f = a / sc * s->sign[t] / sec[6];
+            double *zc = z[c], gn[3], f = a / sc * s->sign[t] / sec[6];
             double gN = G[c][0] * N[0] + G[c][1] * N[1] + G[c][2] * N[2];
             for (int q = 0; q < 3; q++) gn[q] = f * (G[c][q] - gN * N[q]);
-            fr_sfs_cross(sec + 3, gn, z);
-            fr_sfs_cross(gn, sec, z + 3);
-            for (int q = 0; q < 3; q++) z[6 + q] = p->gP ? -p->gP[9 * (size_t)t + 3 * c + q] / sc : 0.0;
-            for (int q = 0, h = 0; q < NZ; h += NZ - q, q++) {
-                double wq = w * z[q];
-                axpy_run(Z + h, wq, z + q, NZ - q);
+            fr_sfs_cross(sec + 3, gn, zc);
+            fr_sfs_cross(gn, sec, zc + 3);
+            for (int q = 0; q < 3; q++) zc[6 + q] = p->gP ? -p->gP[9 * (size_t)t + 3 * c + q] / sc : 0.0;
+            for (int q = 0; q < NZ; q++) {
+                double wq = wz[c][q] = w * zc[q];
                 gz[q] += wq * r;
                 Hz[NZ * c + q] += wq * ja;
             }
-            for (int q = 0; q < NS; q++) axpy_run(Bz + NZ * q, w * j[q], z, NZ);
         }
+        /* H, Z and Bz (shared by the channels): each entry takes the three channels' terms in turn */
+        for (int q = 0, h = 0; q < NS; h += NS - q, q++)
+            axpy3_run(H + h, wj[0][q], wj[1][q], wj[2][q], j[0] + q, j[1] + q, j[2] + q, NS - q);
+        if (!id) continue;
+        for (int q = 0, h = 0; q < NZ; h += NZ - q, q++)
+            axpy3_run(Z + h, wz[0][q], wz[1][q], wz[2][q], z[0] + q, z[1] + q, z[2] + q, NZ - q);
+        for (int q = 0; q < NS; q++) axpy3_run(Bz + NZ * q, wj[0][q], wj[1][q], wj[2][q], z[0], z[1], z[2], NZ);
     }
     if (!s->o->joint_albedo)
         return e;
