@@ -147,6 +147,8 @@ typedef struct mv {
     double cpu_id[4];   /* CPU s: evaluations, the identity's assembly, the solves, the bakes (the log) */
 } mv;
 
+typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
+
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
     out[0] = out[1] = out[2] = 0;
     for (int c = 0; c < 3; c++)
@@ -287,21 +289,31 @@ double fr_sfs_tukey_rho(double u) {
 
 /* Shading of photo v for head-frame normal N, and its gradient by N (per channel, 3). */
 void fr_sfs_shade_head(const fr_sfs_view *v, const double N[3], double S[3], double G[3][3]) {
-    double nc[3], y[FR_SH_COUNT], dy[3 * FR_SH_COUNT];
+    double nc[3], y[FR_SH_COUNT], dy[3 * FR_SH_COUNT], e[3], g[3][3];
     fr_mat3_apply(v->R, N, nc);
     if (G) fr_sh_basis_gradient(nc, y, dy);
     else fr_sh_basis(nc, y);
+    /* channels 0 and 1 side by side in the lanes of a pair, channel 2 alone: each channel's sums
+     * over k as one channel's loop would take them */
+    v2d e01 = {0, 0}, g01[3] = {{0, 0}, {0, 0}, {0, 0}};
+    double e2 = 0, g2[3] = {0, 0, 0};
+    for (int k = 0; k < FR_SH_COUNT; k++) {
+        v2d s01 = {v->sh[0][k], v->sh[1][k]}, yk = {y[k], y[k]};
+        double s2 = v->sh[2][k];
+        e01 = e01 + s01 * yk, e2 += s2 * y[k];
+        if (G)
+            for (int q = 0; q < 3; q++) {
+                v2d d = {dy[3 * k + q], dy[3 * k + q]};
+                g01[q] = g01[q] + s01 * d, g2[q] += s2 * dy[3 * k + q];
+            }
+    }
+    e[0] = e01[0], e[1] = e01[1], e[2] = e2;
+    for (int q = 0; q < 3; q++) g[0][q] = g01[q][0], g[1][q] = g01[q][1], g[2][q] = g2[q];
     for (int c = 0; c < 3; c++) {
-        double e = 0, g[3] = {0, 0, 0};
-        for (int k = 0; k < FR_SH_COUNT; k++) {
-            e += v->sh[c][k] * y[k];
-            if (G)
-                for (int q = 0; q < 3; q++) g[q] += v->sh[c][k] * dy[3 * k + q];
-        }
-        S[c] = e > 0 ? e : 0;
+        S[c] = e[c] > 0 ? e[c] : 0;
         if (G)
             for (int q = 0; q < 3; q++) /* d/dN of S(R N) = R^T g */
-                G[c][q] = e > 0 ? v->R[q] * g[0] + v->R[3 + q] * g[1] + v->R[6 + q] * g[2] : 0;
+                G[c][q] = e[c] > 0 ? v->R[q] * g[c][0] + v->R[3 + q] * g[c][1] + v->R[6 + q] * g[c][2] : 0;
     }
 }
 
@@ -370,8 +382,6 @@ static void ident_z(const mv *s, int t, const int u[FR_SFS_STENCIL], const doubl
         for (int k = 0; k < nnz[r]; k++) z[col[r][k]] += cf[r][k] * v;
     }
 }
-
-typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
 
 /* y[i] += a x[i], i < n: two entries at a time (the same operations per entry). */
 static inline void axpy_run(double *y, double a, const double *x, int n) {
