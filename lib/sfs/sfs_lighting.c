@@ -131,6 +131,7 @@ static const double U[FR_SH_COUNT] = {1.0 / 0.282094791773878, 0, 0, 0, 0, 0, 0,
 typedef struct moments_u {
     double a11[3], g1[3];
     int finite;
+    v2d M01[FR_SH_COUNT * FR_SH_COUNT]; /* channels 0 and 1's M side by side (quad01) */
 } moments_u;
 
 static void moments_ambient(const double M[3][FR_SH_COUNT * FR_SH_COUNT], const double b[3][FR_SH_COUNT],
@@ -138,8 +139,23 @@ static void moments_ambient(const double M[3][FR_SH_COUNT * FR_SH_COUNT], const 
     mu->finite = 1;
     for (int c = 0; c < 3; c++) {
         mu->a11[c] = quad(M[c], U, U), mu->g1[c] = dot9(b[c], U);
+    for (int k = 0; k < FR_SH_COUNT * FR_SH_COUNT; k++) mu->M01[k] = (v2d){M[0][k], M[1][k]};
         for (int k = 0; k < FR_SH_COUNT * FR_SH_COUNT; k++) mu->finite &= isfinite(M[c][k]) != 0;
     }
+}
+
+/* quad for channels 0 and 1 at once (M01: their M side by side), u0 v0 and u1 v1 their vectors:
+ * each lane's sum quad's, term by term. */
+static v2d quad01(const v2d *M01, const double *u0, const double *u1, const double *v0, const double *v1) {
+    v2d s = {0, 0};
+    for (int k = 0; k < FR_SH_COUNT; k++) {
+        v2d uk = {u0[k], u1[k]};
+        for (int l = 0; l < FR_SH_COUNT; l++) {
+            v2d vl = {v0[l], v1[l]};
+            s = s + uk * M01[k * FR_SH_COUNT + l] * vl;
+        }
+    }
+    return s;
 }
 
 /* u^T M v for u = U (quad's sum, its zero terms left out when M is finite). */
@@ -156,8 +172,10 @@ static double directional_fit(const double M[3][FR_SH_COUNT * FR_SH_COUNT], cons
                               const moments_u *mu, const double d[3], double sh[3][FR_SH_COUNT]) {
     double K[FR_SH_COUNT], e = 0;
     fr_sh_irradiance_coeffs(d, 1.0, 0.0, K);
+    v2d kk = quad01(mu->M01, K, K, K, K); /* channels 0 and 1's K^T M K */
+    double a22s[3] = {kk[0], kk[1], quad(M[2], K, K)};
     for (int c = 0; c < 3; c++) {
-        double a11 = mu->a11[c], a12 = quad_u(M[c], K, mu->finite), a22 = quad(M[c], K, K);
+        double a11 = mu->a11[c], a12 = quad_u(M[c], K, mu->finite), a22 = a22s[c];
         double g1 = mu->g1[c], g2 = dot9(b[c], K), amb = 0, dir = 0;
         double det = a11 * a22 - a12 * a12;
         if (det > 1e-300) amb = (a22 * g1 - a12 * g2) / det, dir = (a11 * g2 - a12 * g1) / det;
@@ -169,8 +187,10 @@ static double directional_fit(const double M[3][FR_SH_COUNT * FR_SH_COUNT], cons
             else amb = 0, dir = dir2;
         }
         for (int k = 0; k < FR_SH_COUNT; k++) sh[c][k] = amb * U[k] + dir * K[k];
-        e += quad(M[c], sh[c], sh[c]) - 2 * dot9(b[c], sh[c]);
     }
+    v2d ss = quad01(mu->M01, sh[0], sh[1], sh[0], sh[1]); /* channels 0 and 1's sh^T M sh */
+    double q[3] = {ss[0], ss[1], quad(M[2], sh[2], sh[2])};
+    for (int c = 0; c < 3; c++) e += q[c] - 2 * dot9(b[c], sh[c]);
     return e;
 }
 
