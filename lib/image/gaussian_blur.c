@@ -1,7 +1,7 @@
 /* Separable Gaussian blur, the border repeated (gaussian_blur.h): rows into a scratch image
  * (each row copied in double with its border values, so the inner loop has no bounds), then
- * columns. Each output value is the sum of its taps in kernel order from an exact zero, in
- * double, and the rows' sums are rounded to float before the columns read them; the values are
+ * columns. Each output value is its centre tap plus its symmetric pairs of taps (one product a
+ * pair), in double, and the rows' sums are rounded to float before the columns read them; the values are
  * computed a few at a time with the taps inside (the running sums stay in registers), and every
  * value sums its taps in the same order whatever window is asked for, so a window's values are
  * the whole image's, bit for bit. The result does not depend on the thread count. */
@@ -18,24 +18,34 @@ static int clampi(int v, int lo, int hi) {
     return v < lo ? lo : v > hi ? hi : v;
 }
 
-/* dst[q] = sum over the taps i of k[i] src[i][q], q < n, each sum from 0 in tap order. */
+/* dst[q] = k[r] src[r][q] + sum over i < r of k[i] (src[i][q] + src[taps-1-i][q]), q < n: the kernel is
+ * symmetric (k[i] and k[taps-1-i] are computed from the same i^2, so they are equal), so a pair of
+ * taps takes one product; each sum starts at the centre tap and adds the pairs in the same order
+ * for every q. */
 static void convolve(const double *k, int taps, const double *const *src, size_t n, double *dst) {
+    int r = taps / 2;
     size_t q = 0;
     for (; q + 8 <= n; q += 8) {
-        v2d a0 = {0, 0}, a1 = {0, 0}, a2 = {0, 0}, a3 = {0, 0};
-        for (int i = 0; i < taps; i++) {
-            const double *p = src[i] + q;
-            v2d kk = {k[i], k[i]}, x0, x1, x2, x3;
+        v2d kc = {k[r], k[r]}, x0, x1, x2, x3, y0, y1, y2, y3;
+        const double *c = src[r] + q;
+        memcpy(&x0, c, sizeof x0), memcpy(&x1, c + 2, sizeof x1);
+        memcpy(&x2, c + 4, sizeof x2), memcpy(&x3, c + 6, sizeof x3);
+        v2d a0 = kc * x0, a1 = kc * x1, a2 = kc * x2, a3 = kc * x3;
+        for (int i = 0; i < r; i++) {
+            const double *p = src[i] + q, *m = src[taps - 1 - i] + q;
+            v2d kk = {k[i], k[i]};
             memcpy(&x0, p, sizeof x0), memcpy(&x1, p + 2, sizeof x1);
             memcpy(&x2, p + 4, sizeof x2), memcpy(&x3, p + 6, sizeof x3);
-            a0 = a0 + kk * x0, a1 = a1 + kk * x1, a2 = a2 + kk * x2, a3 = a3 + kk * x3;
+            memcpy(&y0, m, sizeof y0), memcpy(&y1, m + 2, sizeof y1);
+            memcpy(&y2, m + 4, sizeof y2), memcpy(&y3, m + 6, sizeof y3);
+            a0 = a0 + kk * (x0 + y0), a1 = a1 + kk * (x1 + y1), a2 = a2 + kk * (x2 + y2), a3 = a3 + kk * (x3 + y3);
         }
         memcpy(dst + q, &a0, sizeof a0), memcpy(dst + q + 2, &a1, sizeof a1);
         memcpy(dst + q + 4, &a2, sizeof a2), memcpy(dst + q + 6, &a3, sizeof a3);
     }
     for (; q < n; q++) {
-        double a = 0;
-        for (int i = 0; i < taps; i++) a += k[i] * src[i][q];
+        double a = k[r] * src[r][q];
+        for (int i = 0; i < r; i++) a += k[i] * (src[i][q] + src[taps - 1 - i][q]);
         dst[q] = a;
     }
 }
