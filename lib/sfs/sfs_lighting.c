@@ -17,6 +17,7 @@
 #include "core/context.h"
 #include "core/select.h"
 #include "linalg/linalg.h"
+#include "linalg/weighted_rows.h"
 #include "sfs/sfs.h"
 
 #define IRLS_ROUNDS 4
@@ -37,53 +38,25 @@ void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[
 
 typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
 
-/* acc[h] += w[j] x[stride j + h] for the rows j < m in order, h < width (even): eight sums at a
- * time held in registers over the rows. */
-static void weighted_rows(const double *w, const double *x, int stride, int m, int width, double *acc) {
-    int h = 0;
-    for (; h + 8 <= width; h += 8) {
-        v2d a0, a1, a2, a3;
-        memcpy(&a0, acc + h, sizeof a0), memcpy(&a1, acc + h + 2, sizeof a1);
-        memcpy(&a2, acc + h + 4, sizeof a2), memcpy(&a3, acc + h + 6, sizeof a3);
-        for (int j = 0; j < m; j++) {
-            const double *p = x + (size_t)stride * j + h;
-            v2d ww = {w[j], w[j]}, x0, x1, x2, x3;
-            memcpy(&x0, p, sizeof x0), memcpy(&x1, p + 2, sizeof x1), memcpy(&x2, p + 4, sizeof x2);
-            memcpy(&x3, p + 6, sizeof x3);
-            a0 = a0 + ww * x0, a1 = a1 + ww * x1, a2 = a2 + ww * x2, a3 = a3 + ww * x3;
-        }
-        memcpy(acc + h, &a0, sizeof a0), memcpy(acc + h + 2, &a1, sizeof a1);
-        memcpy(acc + h + 4, &a2, sizeof a2), memcpy(acc + h + 6, &a3, sizeof a3);
-    }
-    for (; h + 2 <= width; h += 2) {
-        v2d a0;
-        memcpy(&a0, acc + h, sizeof a0);
-        for (int j = 0; j < m; j++) {
-            v2d ww = {w[j], w[j]}, x0;
-            memcpy(&x0, x + (size_t)stride * j + h, sizeof x0);
-            a0 = a0 + ww * x0;
-        }
-        memcpy(acc + h, &a0, sizeof a0);
-    }
-}
-
 /* Per channel the weighted moments M = sum w a^2 Y Y^T and b = sum w a I Y. The lower triangle is
  * summed packed (45 running sums per channel, each over the pixels in order), a chunk of pixels
  * at a time (their products y y^T and weights gathered, then each run of sums over the chunk in
- * registers: weighted_rows), then unpacked. */
+ * registers: fr_add_weighted_rows), then unpacked. */
 static void moments(int n, const uint8_t *mask, const float *I, const float *albedo, const float *normals,
                     const float *wt, const float *robust, double M[3][FR_SH_COUNT * FR_SH_COUNT],
                     double b[3][FR_SH_COUNT]) {
-    enum { NL = FR_SH_COUNT * (FR_SH_COUNT + 1) / 2, WL = NL + 1, WB = FR_SH_COUNT + 1, CHUNK = 32 };
-    double L[3][WL], B[3][WB];
-    double yy[CHUNK][WL], ys[CHUNK][WB], wa2[3][CHUNK], wai[3][CHUNK]; /* the chunk (the last column 0) */
+    enum { NL = FR_SH_COUNT * (FR_SH_COUNT + 1) / 2, CHUNK = 32 };
+    double L[3][NL], B[3][FR_SH_COUNT];
+    double yy[CHUNK][NL], ys[CHUNK][FR_SH_COUNT], wa2[3][CHUNK], wai[3][CHUNK]; /* the chunk */
+    const double *yy_rows[CHUNK], *ys_rows[CHUNK];
+    for (int j = 0; j < CHUNK; j++) yy_rows[j] = yy[j], ys_rows[j] = ys[j];
     memset(L, 0, sizeof L), memset(B, 0, sizeof B);
     int m = 0;
     for (int i = 0; i <= n; i++) {
         if (m == CHUNK || (i == n && m)) {
             for (int c = 0; c < 3; c++) {
-                weighted_rows(wai[c], &ys[0][0], WB, m, WB, B[c]);
-                weighted_rows(wa2[c], &yy[0][0], WL, m, WL, L[c]);
+                fr_add_weighted_rows(wai[c], ys_rows, m, FR_SH_COUNT, B[c]);
+                fr_add_weighted_rows(wa2[c], yy_rows, m, NL, L[c]);
             }
             m = 0;
         }
@@ -93,10 +66,8 @@ static void moments(int n, const uint8_t *mask, const float *I, const float *alb
         if (!(w > 0)) continue;
         double nd[3] = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]}, *y = ys[m];
         fr_sh_basis(nd, y);
-        y[FR_SH_COUNT] = 0;
         for (int k = 0, h = 0; k < FR_SH_COUNT; k++)
             for (int l = 0; l <= k; l++, h++) yy[m][h] = y[k] * y[l];
-        yy[m][NL] = 0;
         for (int c = 0; c < 3; c++) {
             double a = albedo[3 * i + c];
             wa2[c][m] = w * a * a, wai[c][m] = w * a * I[3 * i + c];

@@ -43,6 +43,7 @@
 #include "core/clock.h"
 #include "core/context.h"
 #include "linalg/linalg.h"
+#include "linalg/weighted_rows.h"
 #include "model/mode_sums.h"
 #include "raster/raster.h"
 #include "raster/rotation.h"
@@ -617,33 +618,14 @@ static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr) {
 }
 
 /* out[m] += sum over i < n of coef[i] rows[M i + m] (the terms of coef[i] == 0 left out), m < M,
- * the terms added in order of i: eight sums at a time held in registers. */
+ * the terms added in order of i (fr_add_weighted_rows). */
 static void combine_rows(const double *coef, const double *rows, int n, int M, double *out) {
     double cf[NZ];
     const double *rp[NZ];
     int k = 0;
     for (int i = 0; i < n; i++)
         if (coef[i] != 0) cf[k] = coef[i], rp[k++] = rows + (size_t)M * i;
-    int m = 0;
-    for (; m + 8 <= M; m += 8) {
-        v2d a0, a1, a2, a3;
-        memcpy(&a0, out + m, sizeof a0), memcpy(&a1, out + m + 2, sizeof a1);
-        memcpy(&a2, out + m + 4, sizeof a2), memcpy(&a3, out + m + 6, sizeof a3);
-        for (int i = 0; i < k; i++) {
-            const double *x = rp[i] + m;
-            v2d c = {cf[i], cf[i]}, x0, x1, x2, x3;
-            memcpy(&x0, x, sizeof x0), memcpy(&x1, x + 2, sizeof x1), memcpy(&x2, x + 4, sizeof x2);
-            memcpy(&x3, x + 6, sizeof x3);
-            a0 = a0 + c * x0, a1 = a1 + c * x1, a2 = a2 + c * x2, a3 = a3 + c * x3;
-        }
-        memcpy(out + m, &a0, sizeof a0), memcpy(out + m + 2, &a1, sizeof a1);
-        memcpy(out + m + 4, &a2, sizeof a2), memcpy(out + m + 6, &a3, sizeof a3);
-    }
-    for (; m < M; m++) {
-        double a = out[m];
-        for (int i = 0; i < k; i++) a += cf[i] * rp[i][m];
-        out[m] = a;
-    }
+    fr_add_weighted_rows(cf, rp, k, M, out);
 }
 
 /* The identity's equations at the current point from the texels' (eq[cur]): C = H_Db (nt x M),

@@ -204,11 +204,11 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
     for (size_t i = 0; i < set->count; i++) n += candidate(&set->photos[i]);
     /* A few photos' shared albedo and shape cannot register them, and many make the full solve
      * slow (docs/sfs.md): the light solve. */
-    int light = n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0) ||
-                (st->joint_max_photos > 0 && n > (size_t)st->joint_max_photos);
+    int few = n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0);
+    int many = st->joint_max_photos > 0 && n > (size_t)st->joint_max_photos;
+    int light = few || many;
     if (light) fr_sfs_light_shared_solve(&r->st);
-    if (light) r->light_why = n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0) ? FR_SFS_WHY_FEW_PHOTOS
-                                                                                                 : FR_SFS_WHY_MANY_PHOTOS;
+    r->light_why = few ? FR_SFS_WHY_FEW_PHOTOS : many ? FR_SFS_WHY_MANY_PHOTOS : FR_SFS_WHY_NONE;
     st = &r->st;
     r->photo = malloc(sizeof(size_t) * (n + 1));
     r->views = calloc(n + 1, sizeof *r->views);
