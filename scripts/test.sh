@@ -15,6 +15,9 @@ jobs=$(nproc)
 cmake -S . -B build -DFRIG_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build build -j "$jobs"
 (cd build && ctest --output-on-failure -j "$jobs")
+# every test removes its scratch folder when it passes; the imported model they share goes too
+# before the sanitized build's run makes its own (the disk holds one build's files at a time)
+rm -rf build/test-tmp
 
 # the sanitized build takes the plain build's dlib_ref (a reference tool, unsanitized in both), and
 # builds only the bench programs the tests run (the plain build compiles them all with -Werror)

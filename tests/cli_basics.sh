@@ -5,6 +5,7 @@ fail=0
 check() { if ! eval "$1"; then echo "FAILED: $1"; fail=1; fi; }
 F="$FRIG_CLI"
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_basics"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 
 check '"$F" --version | grep -q "^frig [0-9]\+\.[0-9]\+\.[0-9]\+"'
 check '"$F" help | grep -q "info"'

@@ -19,6 +19,7 @@ skip() {
 /usr/bin/python3 -c 'import cv2' 2>/dev/null || skip "python3-opencv is not installed (makes the tiny-face photo)"
 
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_detect"; rm -rf "$tmp"; mkdir -p "$tmp/in"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 in=$tmp/in
 cp "$shared/photos/lfw_tony_blair/Tony_Blair_0001.jpg" "$in/a_blair.jpg"
 cp "$shared/photos/lfw_colin_powell/Colin_Powell_0001.jpg" "$in/b_powell.JPG"

@@ -9,6 +9,7 @@ check() { if ! eval "$1"; then echo "FAILED: $1"; fail=1; fi; }
 F="$FRIG_CLI"
 py=/usr/bin/python3
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_filter"; rm -rf "$tmp"; mkdir -p "$tmp/photos" "$tmp/two"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 shared="${FRIG_SHARED:-$FRIG_SOURCE_DIR/../shared}"
 
 check '"$F" help filter | grep -q "usage: frig filter -w WORKSPACE"'

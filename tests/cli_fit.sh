@@ -10,6 +10,7 @@ check() { if ! eval "$1"; then echo "FAILED: $1"; fail=1; fi; }
 F="$FRIG_CLI"
 py=/usr/bin/python3
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_fit"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 
 check '"$F" help fit | grep -q "usage: frig fit -w WORKSPACE"'
 check '"$F" help export | grep -q "usage: frig export -w WORKSPACE -o OUT"'

@@ -6,6 +6,7 @@ set -u
 command -v blender >/dev/null || frig_test_skip "blender is not installed (scripts/install-deps.sh --test)"
 frig_test_model || frig_test_skip "no ICT-FaceKit data"
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_gltf_blender"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 # With a face texture, so the importer also meets the embedded images and the blended materials.
 python3 "$FRIG_SOURCE_DIR/tests/scripts/make_png.py" "$tmp/albedo.png" 128 128 || exit 1
 "$FRIG_CLI" --quiet model export --model "$FRIG_TEST_MODEL" --texture "$tmp/albedo.png" -o "$tmp/out" >/dev/null || exit 1

@@ -10,6 +10,7 @@ command -v node >/dev/null || frig_test_skip "node is not installed (scripts/ins
   frig_test_skip "gltf-validator is not in $tools (scripts/install-deps.sh --test)"
 frig_test_model || frig_test_skip "no ICT-FaceKit data"
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_gltf_validator"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 echo '{"identity": [1.0, -1.0, 0.5]}' > "$tmp/id.json"
 "$FRIG_CLI" --quiet model export --model "$FRIG_TEST_MODEL" --identity "$tmp/id.json" -o "$tmp/out" >/dev/null || exit 1
 # With a face texture (a PNG made here, as the sfs stage would write WORKSPACE/textures/albedo.png)

@@ -4,6 +4,7 @@
 # are exported, and the SONAME is libfrig.so.0.
 set -eu
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_install"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 prefix="$tmp/prefix"
 cmake --install "$FRIG_BINARY_DIR" --prefix "$prefix" >/dev/null
 lib="$prefix/lib/libfrig.so"

@@ -14,6 +14,7 @@ F="$FRIG_CLI"
 py=/usr/bin/python3
 B="$FRIG_BINARY_DIR/bench"
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_retarget"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 
 check '"$F" help retarget | grep -q "usage: frig retarget -w WORKSPACE"'
 "$F" retarget 2>/dev/null; check '[ $? = 2 ]'

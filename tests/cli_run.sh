@@ -12,6 +12,7 @@ fail=0
 check() { if ! eval "$1"; then echo "FAILED: $1"; fail=1; fi; }
 F="$FRIG_CLI"
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_run"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 
 check '"$F" help run | grep -q "usage: frig run PHOTO|FOLDER|VIDEO"'
 "$F" run 2>/dev/null; check '[ $? = 2 ]'

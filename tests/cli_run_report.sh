@@ -9,6 +9,7 @@ fail=0
 check() { if ! eval "$1"; then echo "FAILED: $1"; fail=1; fi; }
 F="$FRIG_CLI"
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_run_report"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 frig_test_model || frig_test_skip "no ICT-FaceKit data"
 [ -f /usr/share/dlib/shape_predictor_68_face_landmarks.dat ] || frig_test_skip "libdlib-data is not installed"
 command -v chromium > /dev/null || frig_test_skip "chromium is not installed (scripts/install-deps.sh --test)"

@@ -10,6 +10,7 @@ check() { if ! eval "$1"; then echo "FAILED: $1"; fail=1; fi; }
 F="$FRIG_CLI"
 py=/usr/bin/python3
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_sfs"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 
 check '"$F" help sfs | grep -q "usage: frig sfs -w WORKSPACE"'
 "$F" sfs 2>/dev/null; check '[ $? = 2 ]'

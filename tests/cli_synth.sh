@@ -7,6 +7,7 @@ fail=0
 check() { if ! eval "$1"; then echo "FAILED: $1"; fail=1; fi; }
 F="$FRIG_CLI"
 tmp="$FRIG_BINARY_DIR/test-tmp/cli_synth"; rm -rf "$tmp"; mkdir -p "$tmp"
+. "$FRIG_SOURCE_DIR/tests/scripts/scratch.sh"
 
 check '"$F" help synth | grep -q "frig synth \[--model FILE\] -o DIR"'
 "$F" synth 2>/dev/null; check '[ $? = 2 ]'

@@ -8,11 +8,31 @@
 
 int test_failures = 0;
 
+/* The scratch folders test_temp_dir made: removed when every check passed (the suite's two builds
+ * would otherwise keep gigabytes of workspaces and models), kept for a look when one failed or
+ * when FRIG_KEEP_TEST_TMP is set. */
+enum { TEMP_DIRS_MAX = 32 };
+static char temp_dirs[TEMP_DIRS_MAX][4096];
+static int temp_dir_count = 0;
+
+static void remove_temp_dirs(void) {
+    const char *keep = getenv("FRIG_KEEP_TEST_TMP");
+    if (keep && *keep && strcmp(keep, "0") != 0) return;
+    for (int i = 0; i < temp_dir_count; i++) {
+        char cmd[4200];
+        snprintf(cmd, sizeof cmd, "rm -rf '%s'", temp_dirs[i]);
+        if (system(cmd) != 0) fprintf(stderr, "cannot remove %s\n", temp_dirs[i]);
+    }
+    temp_dir_count = 0;
+}
+
 int test_result(const char *name) {
     if (test_failures) {
-        fprintf(stderr, "%s: %d check(s) failed\n", name, test_failures);
+        fprintf(stderr, "%s: %d check(s) failed (scratch files kept under %s/test-tmp)\n", name, test_failures,
+                FRIG_BINARY_DIR);
         return 1;
     }
+    remove_temp_dirs();
     printf("%s: all checks passed\n", name);
     return 0;
 }
@@ -48,6 +68,9 @@ const char *test_temp_dir(const char *name) {
     char cmd[8400];
     snprintf(cmd, sizeof cmd, "rm -rf '%s' && mkdir -p '%s'", buf, buf);
     if (system(cmd) != 0) fprintf(stderr, "cannot make %s\n", buf);
+    int known = 0;
+    for (int i = 0; i < temp_dir_count; i++) known |= strcmp(temp_dirs[i], buf) == 0;
+    if (!known && temp_dir_count < TEMP_DIRS_MAX) snprintf(temp_dirs[temp_dir_count++], sizeof temp_dirs[0], "%s", buf);
     return buf;
 }
 
