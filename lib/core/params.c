@@ -122,7 +122,7 @@ static const param_row rows[] = {
 
 
     /* sfs (docs/sfs.md) */
-    {FRIG_PARAM_SFS_FACE_PX, "sfs.face_px", 160, 16, 4096, 1,
+    {FRIG_PARAM_SFS_FACE_PX, "sfs.face_px", 128, 16, 4096, 1,
      "shape from shading works on a crop whose face (longer side) is at most this many pixels"},
     {FRIG_PARAM_SFS_ROUNDS, "sfs.rounds", 4, 0, 20, 1,
      "rounds of the shape shared by all photos (albedo, displacement, lighting; Algorithm 4's outer loop); 0: none"},
