@@ -20,7 +20,7 @@ static void remove_temp_dirs(void) {
     if (keep && *keep && strcmp(keep, "0") != 0) return;
     for (int i = 0; i < temp_dir_count; i++) {
         char cmd[4200];
-        snprintf(cmd, sizeof cmd, "rm -rf '%s'", temp_dirs[i]);
+        snprintf(cmd, sizeof cmd, "rm -rf '%.4095s'", temp_dirs[i]);
         if (system(cmd) != 0) fprintf(stderr, "cannot remove %s\n", temp_dirs[i]);
     }
     temp_dir_count = 0;
