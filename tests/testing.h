@@ -25,7 +25,7 @@ extern int test_failures;
         }                                                                                            \
     } while (0)
 
-/* 0 when no check failed, else 1: return it from main. */
+/* 0 when no check failed (the test's temporary folders removed), else 1: return it from main. */
 int test_result(const char *name);
 
 /* Skip (exit code 77) with a loud message, or fail when FRIG_REQUIRE_DATA is set (CI). */
@@ -38,7 +38,8 @@ const char *test_shared_path(const char *rel);
 int test_file_exists(const char *path);
 /* A whole file in a new buffer (NUL-terminated, caller frees); NULL if unreadable. */
 unsigned char *test_read_file(const char *path, size_t *size);
-/* A fresh empty temporary folder under the build tree. */
+/* A fresh empty temporary folder under the build tree (test-tmp/NAME), removed by test_result when
+ * every check passed (kept on a failure, or with FRIG_KEEP_TEST_TMP=1). */
 const char *test_temp_dir(const char *name);
 
 #endif
