@@ -10,9 +10,8 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/v2d.h"
 #include "image/gaussian_blur.h"
-
-typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
 
 static int clampi(int v, int lo, int hi) {
     return v < lo ? lo : v > hi ? hi : v;

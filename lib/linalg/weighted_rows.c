@@ -2,9 +2,8 @@
  * lighting fit's moments and the shared solve's identity assembly. */
 #include <string.h>
 
+#include "core/v2d.h"
 #include "linalg/weighted_rows.h"
-
-typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
 
 void fr_add_weighted_rows(const double *w, const double *const *rows, int n, int width, double *acc) {
     int h = 0;

@@ -19,6 +19,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/v2d.h"
 #include "linalg/box_qp.h"
 #include "raster/raster.h"
 #include "sfs/sfs_expression.h"
@@ -55,8 +56,6 @@ static void points(const fr_sfs_expression_grid *g, const fr_sfs_expression_phot
         }
     }
 }
-
-typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
 
 typedef struct scratch {
     double *dN; /* 3 per active shape */
@@ -179,9 +178,8 @@ static double data_terms(const fr_sfs_expression_grid *g, const fr_sfs_expressio
                 double dex[3], dey[3], c1[3], c2[3], dc[3];
                 for (int q = 0; q < 3; q++)
                     dex[q] = dr[q] - dl[q], dey[q] = dd[q] - du[q];
-                double dp[3] = {d0[0], d0[1], d0[2]};
-                sc->dP[2 * a] = Jp[0] * dp[0] + Jp[1] * dp[1] + Jp[2] * dp[2];
-                sc->dP[2 * a + 1] = Jp[3] * dp[0] + Jp[4] * dp[1] + Jp[5] * dp[2];
+                sc->dP[2 * a] = Jp[0] * d0[0] + Jp[1] * d0[1] + Jp[2] * d0[2];
+                sc->dP[2 * a + 1] = Jp[3] * d0[0] + Jp[4] * d0[1] + Jp[5] * d0[2];
                 cross(dex, ey, c1), cross(ex, dey, c2);
                 for (int q = 0; q < 3; q++)
                     dc[q] = sg * (c1[q] + c2[q]);

@@ -16,6 +16,7 @@
 
 #include "core/context.h"
 #include "core/select.h"
+#include "core/v2d.h"
 #include "linalg/linalg.h"
 #include "linalg/weighted_rows.h"
 #include "sfs/sfs.h"
@@ -35,8 +36,6 @@ void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[
         S[c] = e > 0 ? e : 0;
     }
 }
-
-typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
 
 /* Per channel the weighted moments M = sum w a^2 Y Y^T and b = sum w a I Y. The lower triangle is
  * summed packed (45 running sums per channel, each over the pixels in order), a chunk of pixels
@@ -110,9 +109,9 @@ static void moments_ambient(const double M[3][FR_SH_COUNT * FR_SH_COUNT], const 
     mu->finite = 1;
     for (int c = 0; c < 3; c++) {
         mu->a11[c] = quad(M[c], U, U), mu->g1[c] = dot9(b[c], U);
-    for (int k = 0; k < FR_SH_COUNT * FR_SH_COUNT; k++) mu->M01[k] = (v2d){M[0][k], M[1][k]};
         for (int k = 0; k < FR_SH_COUNT * FR_SH_COUNT; k++) mu->finite &= isfinite(M[c][k]) != 0;
     }
+    for (int k = 0; k < FR_SH_COUNT * FR_SH_COUNT; k++) mu->M01[k] = (v2d){M[0][k], M[1][k]};
 }
 
 /* quad for channels 0 and 1 at once (M01: their M side by side), u0 v0 and u1 v1 their vectors:

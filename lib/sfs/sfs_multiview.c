@@ -42,6 +42,7 @@
 
 #include "core/clock.h"
 #include "core/context.h"
+#include "core/v2d.h"
 #include "linalg/linalg.h"
 #include "linalg/weighted_rows.h"
 #include "model/mode_sums.h"
@@ -147,8 +148,6 @@ typedef struct mv {
     double dmean;       /* the D block's mean diagonal at the first assembly (the identity's damping scale) */
     double cpu_id[4];   /* CPU s: evaluations, the identity's assembly, the solves, the bakes (the log) */
 } mv;
-
-typedef double v2d __attribute__((vector_size(16))); /* two lanes (GCC and Clang), IEEE per lane */
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
     out[0] = out[1] = out[2] = 0;
