@@ -30,6 +30,7 @@
 #define OVERLAY_SIGMA 0.003
 #define OVERLAY_REACH 0.01
 #define LID_PASSES 4
+#define LID_PUSH_MIN 1e-7 /* metres: a shortfall below this is the float clearance's rounding */
 
 enum { PART_FACE = 0, PART_SKIN = 1, PART_EYE_L = 2, PART_EYE_R = 3, PART_TEETH = 4, PART_OVERLAY = 5, PART_OTHER = 6 };
 
@@ -214,14 +215,15 @@ static frig_status move_overlays(frig_ctx *ctx, head *h, const float *old_neutra
 /* No lid vertex inside its eyeball: in the neutral and in every shape, a skin vertex near an
  * eyeball keeps at least the clearance from its mesh that the old rig gave it (at most 0: the
  * surface), moved out along the vertex's offset from its eyeball's centre. Here one shape (f = 0:
- * the neutral), with its own lids index and scratch. */
-static void lids_out_shape(fr_rt_lids *lids, const head *h, const float *old_clearance, int f, float *xn, float *cn,
-                           float *dir, frig_rig *rig) {
+ * the neutral), with its own lids index and scratch. Returns whether it moved a vertex. */
+static int lids_out_shape(fr_rt_lids *lids, const head *h, const float *old_clearance, int f, float *xn, float *cn,
+                          float *dir, frig_rig *rig) {
     int nv = h->nv;
     size_t n3 = 3 * (size_t)nv;
     const float *co = old_clearance + (size_t)f * nv;
     for (size_t q = 0; q < n3; q++) xn[q] = rig->neutral[q] + (f ? rig->deltas[n3 * (f - 1) + q] : 0.0f);
     fr_rt_lid_clearance(lids, xn, cn, dir);
+    int moved = 0;
     for (int v = 0; v < nv; v++) {
         if (h->part[v] > PART_SKIN || !isfinite(cn[v])) continue;
         double want = fmin(isfinite(co[v]) ? co[v] : 0.0, 0.0);
@@ -229,8 +231,11 @@ static void lids_out_shape(fr_rt_lids *lids, const head *h, const float *old_cle
         /* Out by the missing clearance, away from the eyeball's nearest point. */
         double push = want - cn[v];
         float *target = f == 0 ? rig->neutral + 3 * (size_t)v : rig->deltas + n3 * (f - 1) + 3 * (size_t)v;
+        if (push < LID_PUSH_MIN) continue;
         for (int k = 0; k < 3; k++) target[k] += (float)(push * dir[3 * (size_t)v + k]);
+        moved = 1;
     }
+    return moved;
 }
 
 /* Per thread: a lids index (its trees are refitted per shape) and the scratch of one shape. */
@@ -258,13 +263,17 @@ static lids_work *lids_work_new(frig_ctx *ctx, const frig_model *model, int nv, 
 }
 
 /* The neutral first (every shape sits on it), then the shapes, each on its own thread's index:
- * a shape writes only its own deltas, so the result does not depend on the threads. */
-static void keep_lids_out(lids_work *w, int threads, const head *h, const float *old_clearance, frig_rig *rig) {
-    lids_out_shape(w[0].lids, h, old_clearance, 0, w[0].x, w[0].c, w[0].dir, rig);
+ * a shape writes only its own deltas, so the result does not depend on the threads. A shape
+ * that moved nothing in the last pass, on a neutral this pass left alone, would find what it
+ * found then: it is skipped (moved[f], per shape, says what the last pass did; all 1 at first). */
+static void keep_lids_out(lids_work *w, int threads, const head *h, const float *old_clearance, uint8_t *moved,
+                          frig_rig *rig) {
+    int neutral = moved[0] ? lids_out_shape(w[0].lids, h, old_clearance, 0, w[0].x, w[0].c, w[0].dir, rig) : 0;
+    moved[0] = (uint8_t)neutral;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int f = 1; f < h->F; f++) {
         lids_work *m = &w[omp_get_thread_num()];
-        lids_out_shape(m->lids, h, old_clearance, f, m->x, m->c, m->dir, rig);
+        if (moved[f] || neutral) moved[f] = (uint8_t)lids_out_shape(m->lids, h, old_clearance, f, m->x, m->c, m->dir, rig);
     }
 }
 
@@ -353,7 +362,11 @@ frig_status fr_rt_whole_head(frig_ctx *ctx, const frig_model *model, int nf, con
         int threads = fr_threads(ctx);
         lids_work *w = lids_work_new(ctx, model, h.nv, threads, &s);
         float *old_c = s ? NULL : old_clearances(ctx, w, threads, &h, ref_neutral, ref_deltas, &s);
-        for (int pass = 0; pass < LID_PASSES && !s; pass++) keep_lids_out(w, threads, &h, old_c, rig);
+        uint8_t *moved = s ? NULL : malloc((size_t)h.F);
+        if (!s && !moved) s = fr_nomem(ctx, "the whole head");
+        if (moved) memset(moved, 1, (size_t)h.F);
+        for (int pass = 0; pass < LID_PASSES && !s; pass++) keep_lids_out(w, threads, &h, old_c, moved, rig);
+        free(moved);
         free(old_c);
         lids_work_free(w, threads);
         if (!s) s = keep_teeth_in(ctx, model, &h, ref_neutral, ref_deltas, rig);
