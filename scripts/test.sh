@@ -12,6 +12,11 @@ if scripts/install-deps.sh --test > "$log" 2>&1; then echo "done ($((SECONDS - t
   echo "failed; the last lines of $log:"; tail -n 15 "$log"; exit 1; fi
 jobs=$(nproc)
 
+# The reference implementations' answers (dlib_ref, OpenCV; tests/testing.h, test_ref_open): the
+# plain pass leaves them here, the sanitized pass reads them (the same programs, unsanitized).
+export FRIG_REF_CACHE="$PWD/build/ref-answers"
+rm -rf "$FRIG_REF_CACHE"
+
 cmake -S . -B build -DFRIG_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build build -j "$jobs"
 (cd build && ctest --output-on-failure -j "$jobs")
@@ -33,4 +38,5 @@ cmake --build build-asan -j "$jobs"
 asan="detect_leaks=1:abort_on_error=1:clear_shadow_mmap_threshold=1073741824:allocator_release_to_os_interval_ms=-1"
 (cd build-asan && ASAN_OPTIONS=$asan UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
   ctest --output-on-failure -j "$jobs")
+rm -rf "$FRIG_REF_CACHE"
 echo "all tests passed (plain and sanitized)"

@@ -162,14 +162,15 @@ static void read_int_array(const cJSON *arr, int *out, int max) {
     cJSON_ArrayForEach(v, arr) if (i < max) out[i++] = v->valueint;
 }
 
-/* Start a reference command over the photos (it runs while we compute ours). */
-static FILE *start_reference(const char *cmd_head, char paths[][512], int n) {
+/* Start a reference command over the photos (it runs while we compute ours); its answers come
+ * from the reference cache when 'answers' (test_ref_open), not when it writes files of its own. */
+static FILE *start_reference(const char *cmd_head, char paths[][512], int n, int answers) {
     size_t len = strlen(cmd_head) + 16;
     for (int i = 0; i < n; i++) len += strlen(paths[i]) + 3;
     char *cmd = malloc(len);
     strcpy(cmd, cmd_head);
     for (int i = 0; i < n; i++) strcat(strcat(strcat(cmd, " '"), paths[i]), "'");
-    FILE *p = popen(cmd, "r");
+    FILE *p = answers ? test_ref_open(cmd) : popen(cmd, "r");
     free(cmd);
     return p;
 }
@@ -196,7 +197,7 @@ static int finish_reference(FILE *p, char paths[][512], int n, answer *ans) {
         }
         cJSON_Delete(j);
     }
-    if (p) pclose(p);
+    if (p) test_ref_close(p);
     return got;
 }
 
@@ -250,7 +251,7 @@ static int compare_cascade(const char *cascade, double scale, int neighbors, int
     snprintf(head, sizeof head, PY " '%s' --cascade '%s%s' --scale %g --neighbors %d --min-size %d 2>/dev/null",
              test_shared_path("tools/opencv_ref.py"), CASCADES, cascade, scale, neighbors, min_size);
     answer *ref = calloc((size_t)n, sizeof *ref), *ours = calloc((size_t)n, sizeof *ours);
-    FILE *job = start_reference(head, paths, n);
+    FILE *job = start_reference(head, paths, n, 1);
     fr_cascade *c = NULL;
     char cpath[512];
     snprintf(cpath, sizeof cpath, CASCADES "%s", cascade);
@@ -286,7 +287,7 @@ static void compare_raw(char paths[][512], int n) {
     char head[1024];
     snprintf(head, sizeof head, PY " '%s' --neighbors 0 --min-size 30 2>/dev/null",
              test_shared_path("tools/opencv_ref.py"));
-    FILE *job = start_reference(head, paths, n);
+    FILE *job = start_reference(head, paths, n, 1);
     fr_cascade *c = NULL;
     CHECK(fr_cascade_load(ctx, CASCADES "haarcascades/haarcascade_frontalface_alt2.xml", &c) == FRIG_OK);
     for (int i = 0; i < n && c; i++) run_ours(c, paths[i], 1.1, 0, 30, &ours[i]);
@@ -326,7 +327,7 @@ static void compare_scores(char paths[][512], int n) {
     snprintf(head, sizeof head, PY " '%s' " CASCADES "haarcascades/haarcascade_frontalface_alt2.xml 2>/dev/null",
              script);
     answer *ref = calloc((size_t)n, sizeof *ref), *ours = calloc((size_t)n, sizeof *ours);
-    FILE *job = start_reference(head, paths, n);
+    FILE *job = start_reference(head, paths, n, 1);
     fr_cascade *c = NULL;
     CHECK(fr_cascade_load(ctx, CASCADES "haarcascades/haarcascade_frontalface_alt2.xml", &c) == FRIG_OK);
     for (int i = 0; i < n && c; i++) run_ours(c, paths[i], 1.1, 3, 30, &ours[i]);
@@ -431,7 +432,7 @@ static void compare_gray(char paths[][512], int n) {
     fputs(GRAY_PY, fp);
     fclose(fp);
     snprintf(head, sizeof head, PY " '%s' '%s'", script, dir);
-    FILE *job = start_reference(head, paths, n);
+    FILE *job = start_reference(head, paths, n, 0);
     if (job) pclose(job);
     int same = 0, pngs = 0;
     for (int i = 0; i < n; i++) {

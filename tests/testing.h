@@ -42,4 +42,15 @@ unsigned char *test_read_file(const char *path, size_t *size);
  * every check passed (kept on a failure, or with FRIG_KEEP_TEST_TMP=1). */
 const char *test_temp_dir(const char *name);
 
+/* The standard output of a reference implementation's command (dlib_ref, OpenCV through Python):
+ * the command runs (its stream read while it runs), or, when $FRIG_REF_CACHE names a folder, the
+ * answer that the same command line left there before is read instead. scripts/test.sh sets it,
+ * empty at its start, so that the sanitized pass reads the plain pass's answers: the references
+ * are other people's programs, unsanitized and the same in both passes. The command may redirect
+ * its standard error itself. test_ref_close returns 0 when the command succeeded. */
+FILE *test_ref_open(const char *cmd);
+int test_ref_close(FILE *f);
+/* The same, written to the file 'out'; 0 when the command succeeded. */
+int test_ref_to_file(const char *cmd, const char *out);
+
 #endif
