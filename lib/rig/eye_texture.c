@@ -28,21 +28,41 @@ void fr_texture_free(fr_texture *t) {
     memset(t, 0, sizeof *t);
 }
 
-void fr_texture_sample(const fr_texture *t, double u, double v, double rgba[4]) {
+/* The four texels around (u, v) (clamped: the UV islands have gutters) and their bilinear weights. */
+static void bilinear(const fr_texture *t, double u, double v, const uint8_t *p[4], double w[4]) {
     double x = (u - floor(u)) * t->width - 0.5, y = (1.0 - (v - floor(v))) * t->height - 0.5;
     int x0 = (int)floor(x), y0 = (int)floor(y);
     double fx = x - x0, fy = y - y0;
-    rgba[0] = rgba[1] = rgba[2] = 0.0, rgba[3] = 0.0;
     for (int j = 0; j < 2; j++)
         for (int i = 0; i < 2; i++) {
             int xi = x0 + i, yj = y0 + j;
-            xi = xi < 0 ? 0 : xi >= t->width ? t->width - 1 : xi; /* clamp: the UV islands have gutters */
+            xi = xi < 0 ? 0 : xi >= t->width ? t->width - 1 : xi;
             yj = yj < 0 ? 0 : yj >= t->height ? t->height - 1 : yj;
-            double w = (i ? fx : 1.0 - fx) * (j ? fy : 1.0 - fy);
-            const uint8_t *p = t->pixels + ((size_t)yj * (size_t)t->width + (size_t)xi) * (size_t)t->channels;
-            for (int c = 0; c < 3; c++) rgba[c] += w * p[c] / 255.0;
-            rgba[3] += w * (t->channels == 4 ? p[3] / 255.0 : 1.0);
+            w[2 * j + i] = (i ? fx : 1.0 - fx) * (j ? fy : 1.0 - fy);
+            p[2 * j + i] = t->pixels + ((size_t)yj * (size_t)t->width + (size_t)xi) * (size_t)t->channels;
         }
+}
+
+void fr_texture_sample(const fr_texture *t, double u, double v, double rgba[4]) {
+    const uint8_t *p[4];
+    double w[4];
+    bilinear(t, u, v, p, w);
+    rgba[0] = rgba[1] = rgba[2] = 0.0, rgba[3] = 0.0;
+    for (int k = 0; k < 4; k++) {
+        for (int c = 0; c < 3; c++) rgba[c] += w[k] * p[k][c] / 255.0;
+        rgba[3] += w[k] * (t->channels == 4 ? p[k][3] / 255.0 : 1.0);
+    }
+}
+
+void fr_texture_sample_linear(const fr_texture *t, const float decode[256], double u, double v, double rgba[4]) {
+    const uint8_t *p[4];
+    double w[4];
+    bilinear(t, u, v, p, w);
+    rgba[0] = rgba[1] = rgba[2] = 0.0, rgba[3] = 0.0;
+    for (int k = 0; k < 4; k++) {
+        for (int c = 0; c < 3; c++) rgba[c] += w[k] * decode[p[k][c]];
+        rgba[3] += w[k] * (t->channels == 4 ? p[k][3] / 255.0 : 1.0);
+    }
 }
 
 /* ---- baking a per-vertex attribute into UV space ---- */
@@ -168,6 +188,20 @@ static void streaks_init(streaks *s, uint64_t seed) {
         }
 }
 
+/* An eye's fibres depend on the eye alone: made once per process (each table 64 KB), not for every
+ * texture of every export and picture. */
+static const streaks *eye_fibres(int eye) {
+    static streaks tables[2];
+    static int ready[2];
+    const streaks *out;
+#pragma omp critical(frig_eye_fibres)
+    {
+        if (!ready[eye]) streaks_init(&tables[eye], 0x1415926535ull + (uint64_t)eye), ready[eye] = 1;
+        out = &tables[eye];
+    }
+    return out;
+}
+
 /* About [-1, 1]: fibres along the radius (angle in radians, any value; rho in iris radii). */
 static double streak(const streaks *s, double angle, double rho) {
     double a = angle / (2.0 * M_PI);
@@ -195,7 +229,7 @@ static void mix3(double *c, const double *a, const double *b, double t) {
 typedef struct eye_geom {
     double c[3], a[3], u[3], w[3];
     double iris_r, pupil_r;
-    streaks fibres;
+    const streaks *fibres;
 } eye_geom;
 
 /* Position relative to the eye: along the axis, distance from it, angle around it. */
@@ -221,12 +255,12 @@ static void iris_colour(const eye_geom *g, const float *p, double rgba[4]) {
         memcpy(rgba, pupil, sizeof pupil);
         return;
     }
-    double f = streak(&g->fibres, angle, rho), c[3];
+    double f = streak(g->fibres, angle, rho), c[3];
     /* the collarette: lighter amber near the pupil, brown toward the rim */
     mix3(c, amber, brown, smooth(rp + 0.05, 0.75, rho));
     double light = 1.0 + 0.22 * f * smooth(rp, rp + 0.1, rho);
     /* crypts: darker lacunae in the middle band */
-    double crypt = 0.5 + 0.5 * streak(&g->fibres, 2.0 * angle + 1.0, 3.0 * rho);
+    double crypt = 0.5 + 0.5 * streak(g->fibres, 2.0 * angle + 1.0, 3.0 * rho);
     light *= 1.0 - 0.25 * smooth(0.75, 1.0, crypt) * smooth(0.4, 0.5, rho) * (1.0 - smooth(0.8, 0.9, rho));
     for (int i = 0; i < 3; i++) c[i] *= light;
     mix3(c, c, rim, smooth(0.80, 0.97, rho));          /* limbal ring */
@@ -245,7 +279,7 @@ static void sclera_colour(const eye_geom *g, const float *p, double rgba[4]) {
     mix3(c, white, pink, 0.7 * back);
     if (along > 0.0) mix3(c, c, limbus, 0.5 * (1.0 - smooth(1.0, 1.35, rho))); /* the shadowed ring by the cornea */
     /* a few thin veins reaching in from the corners */
-    double v = streak(&g->fibres, 0.5 * angle + 2.0, 0.0);
+    double v = streak(g->fibres, 0.5 * angle + 2.0, 0.0);
     double vein_w = smooth(0.93, 1.0, 0.5 + 0.5 * v) * smooth(1.5, 2.6, rho) * (0.3 + 0.7 * back);
     mix3(c, c, vein, 0.55 * vein_w);
     memcpy(rgba, c, sizeof c);
@@ -287,7 +321,7 @@ static frig_status eye_geometry(const frig_rig *rig, int material, int eye, eye_
     if (!(max_r > 0.0)) return FRIG_ERR_STATE;
     g->iris_r = 1.02 * max_r;
     g->pupil_r = 0.3 * g->iris_r;
-    streaks_init(&g->fibres, 0x1415926535ull + (uint64_t)eye);
+    g->fibres = eye_fibres(eye);
     return FRIG_OK;
 }
 

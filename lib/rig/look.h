@@ -69,5 +69,8 @@ frig_status fr_eye_texture_paint(frig_ctx *ctx, const frig_rig *rig, int materia
 void fr_texture_free(fr_texture *t);
 /* Bilinear sample (u, v in the OBJ convention, v up; wraps) into rgba (0..1, sRGB colour). */
 void fr_texture_sample(const fr_texture *t, double u, double v, double rgba[4]);
+/* The same in linear light: each texel decoded through 'decode' (fr_srgb_decode_table) before the
+ * bilinear weights, as a GPU filters an sRGB texture; alpha as it is. */
+void fr_texture_sample_linear(const fr_texture *t, const float decode[256], double u, double v, double rgba[4]);
 
 #endif

@@ -33,7 +33,8 @@ typedef struct scene {
     int nv;
     float *xc, *normals; /* camera frame, 3 per vertex */
     fr_camera cam;
-    int w, h; /* supersampled size */
+    int w, h;          /* supersampled size */
+    float decode[256]; /* 8-bit sRGB code -> linear */
 } scene;
 
 static void pass_free(pass *p) {
@@ -91,9 +92,8 @@ static void shade(const scene *sc, const fr_raster *r, const pass *ps, size_t px
     double albedo[4] = {l->base[0], l->base[1], l->base[2], l->base[3]};
     if (l->texture >= 0) {
         double tex[4];
-        fr_texture_sample(&sc->look->textures[l->texture], uv[0], uv[1], tex);
-        for (int k = 0; k < 3; k++) albedo[k] *= fr_srgb_to_linear(tex[k]);
-        albedo[3] *= tex[3];
+        fr_texture_sample_linear(&sc->look->textures[l->texture], sc->decode, uv[0], uv[1], tex);
+        for (int k = 0; k < 4; k++) albedo[k] *= tex[k];
     }
     /* camera frame: x right, y down, z forward; directions toward each light */
     static const double lights[3][4] = {
@@ -227,6 +227,7 @@ static frig_status render_xyz(frig_ctx *ctx, const frig_rig *rig, const fr_rig_l
     memset(&sc, 0, sizeof sc);
     sc.rig = rig, sc.look = look, sc.nv = rig->topo.vertex_count;
     sc.w = w * SUPERSAMPLE, sc.h = h * SUPERSAMPLE;
+    fr_srgb_decode_table(sc.decode);
     double R[9], tr[3];
     place(rig, yaw, pitch, framing, sc.w, sc.h, R, tr, &sc.cam);
     sc.xc = malloc(sizeof(float) * 6 * (size_t)sc.nv);
