@@ -3,7 +3,10 @@
  * in the model's texture space ("ComputeMeanTexture"). Per texel the average is the weighted
  * least-squares albedo a_c = sum w S I / sum w S^2 over the photos that see the texel (S the
  * photo's shading there), the weights the view cosine times the photo's weight, reweighted once
- * by Tukey's biweight so that cast shadows, highlights and misregistered edges do not tint it. */
+ * by Tukey's biweight so that cast shadows, highlights and misregistered edges do not tint it.
+ * For the texture a view whose colour would need an albedo above 1 (or whose shading is not
+ * positive) does not count: on Bing Will Smith such views painted the face's sides and the neck's
+ * top in saturated red, green, magenta and black (docs/sfs.md, "The albedo texture's outline"). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -41,7 +44,7 @@ typedef struct obs {
 
 /* Texel k as each used view shows it: colour, shading, weight. */
 static int gather(const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *views, int nviews, const uint8_t *use,
-                  int k, double sigma, obs *o) {
+                  int k, double sigma, double albedo_max, obs *o) {
     int n = 0;
     const int32_t *tri = m->tris + 3 * (size_t)uv->tri[k];
     const float *b = uv->bary + 3 * (size_t)k;
@@ -61,9 +64,15 @@ static int gather(const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *
         double ray[3] = {(xy[0] - v->cam.cx) / v->cam.f, (xy[1] - v->cam.cy) / v->cam.f, 1.0};
         double cosv = -(nc[0] * ray[0] + nc[1] * ray[1] + nc[2] * ray[2]) / sqrt(ray[0] * ray[0] + ray[1] * ray[1] + 1);
         if (cosv < MIN_COS) continue;
-        obs *ob = &o[n++];
+        obs *ob = &o[n];
         fr_bilinear3(v->I, v->w, v->h, xy, ob->I);
         fr_sfs_shading(v->sh, nc, ob->S);
+        /* A colour the shading cannot explain (a grazing normal's tiny or negative shading, the
+         * background or hair at the face's outline) is not the skin's. */
+        int explained = 1;
+        for (int c = 0; albedo_max > 0 && c < 3; c++) explained &= ob->S[c] > 0 && ob->I[c] <= albedo_max * ob->S[c];
+        if (!explained) continue;
+        n++;
         double mean = (ob->I[0] + ob->I[1] + ob->I[2]) / 3;
         ob->scale = sigma * (mean > INTENSITY_FLOOR ? mean : INTENSITY_FLOOR);
         ob->w = cosv * v->photo_weight;
@@ -97,7 +106,7 @@ static double texel_albedo(const obs *o, int n, double a[3]) {
 }
 
 frig_status fr_sfs_albedo_solve(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *views,
-                                int nviews, const uint8_t *use, double sigma, fr_sfs_albedo *out) {
+                                int nviews, const uint8_t *use, double sigma, double albedo_max, fr_sfs_albedo *out) {
     int failed = 0;
 #pragma omp parallel num_threads(fr_threads(ctx))
     {
@@ -110,7 +119,7 @@ frig_status fr_sfs_albedo_solve(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sf
         for (int k = 0; k < uv->count; k++) {
             if (!ob || fr_cancelled(ctx)) continue;
             size_t t = (size_t)uv->texel[k];
-            int n = gather(m, uv, views, nviews, use, k, sigma, ob);
+            int n = gather(m, uv, views, nviews, use, k, sigma, albedo_max, ob);
             double a[3] = {0, 0, 0};
             out->weight[t] = n ? (float)texel_albedo(ob, n, a) : 0.0f;
             for (int c = 0; c < 3; c++) out->albedo[3 * t + c] = (float)(a[c] > 0 ? a[c] : 0);

@@ -19,9 +19,11 @@ void fr_sfs_albedo_free(fr_sfs_albedo *a);
  * (lighting v->sh on the rig's normals v->vn_cam), averaged with the view cosine times
  * v->photo_weight as weights and Tukey's biweight against cast shadows, highlights and
  * misregistered edges (eq. 5.14 and Algorithm 5's mean texture). Texels are independent
- * (parallel, deterministic). sigma: relative intensity error of one standard deviation. */
+ * (parallel, deterministic). sigma: relative intensity error of one standard deviation.
+ * albedo_max > 0: a view whose colour would need an albedo above it (linear) in a channel, or
+ * whose shading is not positive, does not count (0: every view counts). */
 frig_status fr_sfs_albedo_solve(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *views,
-                                int nviews, const uint8_t *use, double sigma, fr_sfs_albedo *a);
+                                int nviews, const uint8_t *use, double sigma, double albedo_max, fr_sfs_albedo *a);
 
 /* The texture's albedo at view v's face pixels (v->albedo; 'fallback' where no photo saw the
  * texel) and the rig's normals as the view's normal prior (v->n_prior). */

@@ -18,6 +18,9 @@
 #include "sfs/sfs_run.h"
 #include "workspace/photoset.h"
 
+#define SEEN_SHARE 0.3         /* of the median seen texel's view weight (docs/sfs.md) */
+#define TEXTURE_ALBEDO_MAX 1.0 /* linear: views needing more do not colour the texture */
+
 typedef struct finish_job {
     fr_sfs_run *r;
     const frig_photoset *set;
@@ -103,24 +106,52 @@ static frig_status finish_one(frig_ctx *ctx, size_t k, void *user) {
     return s;
 }
 
+static int cmp_float(const void *a, const void *b) {
+    float x = *(const float *)a, y = *(const float *)b;
+    return (x > y) - (x < y);
+}
+
+/* The median of the values v[i * stride], i < n, that count: the positive ones when flag_at < 0,
+ * else those whose float flag_at places further on is 1 (a seen texel's mark); 'none' when none do. */
+static double median_where(const float *v, size_t n, size_t stride, int flag_at, double none) {
+    float *p = malloc(sizeof(float) * (n + 1));
+    size_t m = 0;
+    for (size_t i = 0; p && i < n; i++) {
+        const float *e = v + i * stride;
+        if (flag_at < 0 ? e[0] > 0 : e[flag_at] == 1) p[m++] = e[0];
+    }
+    double med = none;
+    if (m) {
+        qsort(p, m, sizeof(float), cmp_float);
+        med = p[m / 2];
+    }
+    free(p);
+    return med;
+}
+
 /* The subject's albedo as an sRGB texture of sfs.texture_size texels (Algorithm 5 once more, on
- * the final lighting and the shared shape's normals); texels no photo saw take the average of
- * their seen neighbours, grown outward a few texels, then the mean skin colour. */
+ * the final lighting and the shared shape's normals); texels no photo saw well take the average
+ * of their seen neighbours, grown outward a few texels, then the seen texels' median colour. */
 frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
     fr_sfs_uv uv;
     fr_sfs_albedo a;
     memset(&a, 0, sizeof a);
     frig_status s = fr_sfs_uv_init(ctx, &r->mesh, r->st.texture_size, &uv);
     if (!s) s = fr_sfs_albedo_init(ctx, &uv, &a);
-    if (!s) s = fr_sfs_albedo_solve(ctx, &r->mesh, &uv, r->views, r->n, r->ok, fmax(r->st.sigma, 0.03), &a);
+    if (!s)
+        s = fr_sfs_albedo_solve(ctx, &r->mesh, &uv, r->views, r->n, r->ok, fmax(r->st.sigma, 0.03), TEXTURE_ALBEDO_MAX,
+                                &a);
     int T = uv.size;
     frig_image *img = s ? NULL : fr_image_new(T, T, 3);
     float *grow = s ? NULL : malloc(sizeof(float) * 4 * (size_t)T * T);
     if (!s && (!img || !grow)) s = fr_nomem(ctx, "the albedo texture");
     if (!s) {
         size_t n = (size_t)T * T;
+        /* A texel counts as seen when its views weigh at least SEEN_SHARE of a typical seen
+         * texel's (a texel only a grazing view or two showed is the outline's colour). */
+        double wmin = SEEN_SHARE * median_where(a.weight, n, 1, -1, 0.0);
         for (size_t t = 0; t < n; t++) {
-            int seen = a.weight[t] > 0;
+            int seen = a.weight[t] > 0 && a.weight[t] >= wmin;
             for (int c = 0; c < 3; c++) grow[4 * t + c] = seen ? a.albedo[3 * t + c] : 0;
             grow[4 * t + 3] = (float)seen;
         }
@@ -143,11 +174,15 @@ frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
                         grow[4 * t + 3] = (float)(pass + 2);
                     }
                 }
+        /* What growing does not reach: the seen texels' median colour (the photos' mean skin colour
+         * when none was seen). */
+        double fill[3];
+        for (int c = 0; c < 3; c++) fill[c] = median_where(grow + c, n, 4, 3 - c, r->mean_albedo[c]);
         for (int y = 0; y < T; y++)
             for (int x = 0; x < T; x++) {
                 size_t t = (size_t)y * T + x;
                 for (int c = 0; c < 3; c++) {
-                    double lin = grow[4 * t + 3] > 0 ? grow[4 * t + c] : r->mean_albedo[c];
+                    double lin = grow[4 * t + 3] > 0 ? grow[4 * t + c] : fill[c];
                     img->pixels[(size_t)y * img->stride + 3 * (size_t)x + c] =
                         (uint8_t)floor(255.0 * fr_linear_to_srgb(lin) + 0.5);
                 }
