@@ -5,8 +5,9 @@
  * photo's shading there), the weights the view cosine times the photo's weight, reweighted once
  * by Tukey's biweight so that cast shadows, highlights and misregistered edges do not tint it.
  * For the texture a view whose colour would need an albedo above 1 (or whose shading is not
- * positive) does not count: on Bing Will Smith such views painted the face's sides and the neck's
- * top in saturated red, green, magenta and black (docs/sfs.md, "The albedo texture's outline"). */
+ * positive), or an albedo greener or bluer than red, does not count: on Bing Will Smith such
+ * views painted the face's sides and the neck's top in saturated red, green, magenta and black
+ * (docs/sfs.md, "The albedo texture's outline"). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,6 +20,8 @@
 #define INTENSITY_FLOOR 0.03
 #define VISIBLE_TOL 0.004 /* metres: a texel this close behind the drawn surface is seen */
 #define MIN_COS 0.2
+#define ALBEDO_MAX 1.0  /* linear: the texture's views need no more */
+#define SKIN_CHROMA 1.05 /* the texture's views: green and blue at most this times red */
 
 void fr_sfs_albedo_free(fr_sfs_albedo *a) {
     free(a->albedo), free(a->weight);
@@ -42,9 +45,22 @@ typedef struct obs {
     double I[3], S[3], w, scale;
 } obs;
 
+/* The texture's rule for a view: a colour the shading cannot explain (a grazing normal's tiny or
+ * negative shading, the background or hair at the face's outline: an albedo above 1), or that is
+ * no skin's (greener or bluer than red: melanin and haemoglobin absorb the shorter wavelengths
+ * most), is not the face's. */
+static int skin_colour(const obs *ob) {
+    double a[3];
+    for (int c = 0; c < 3; c++) {
+        if (!(ob->S[c] > 0) || ob->I[c] > ALBEDO_MAX * ob->S[c]) return 0;
+        a[c] = ob->I[c] / ob->S[c];
+    }
+    return a[1] <= SKIN_CHROMA * a[0] && a[2] <= SKIN_CHROMA * a[0];
+}
+
 /* Texel k as each used view shows it: colour, shading, weight. */
 static int gather(const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *views, int nviews, const uint8_t *use,
-                  int k, double sigma, double albedo_max, obs *o) {
+                  int k, double sigma, int texture, obs *o) {
     int n = 0;
     const int32_t *tri = m->tris + 3 * (size_t)uv->tri[k];
     const float *b = uv->bary + 3 * (size_t)k;
@@ -67,11 +83,7 @@ static int gather(const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *
         obs *ob = &o[n];
         fr_bilinear3(v->I, v->w, v->h, xy, ob->I);
         fr_sfs_shading(v->sh, nc, ob->S);
-        /* A colour the shading cannot explain (a grazing normal's tiny or negative shading, the
-         * background or hair at the face's outline) is not the skin's. */
-        int explained = 1;
-        for (int c = 0; albedo_max > 0 && c < 3; c++) explained &= ob->S[c] > 0 && ob->I[c] <= albedo_max * ob->S[c];
-        if (!explained) continue;
+        if (texture && !skin_colour(ob)) continue;
         n++;
         double mean = (ob->I[0] + ob->I[1] + ob->I[2]) / 3;
         ob->scale = sigma * (mean > INTENSITY_FLOOR ? mean : INTENSITY_FLOOR);
@@ -106,7 +118,7 @@ static double texel_albedo(const obs *o, int n, double a[3]) {
 }
 
 frig_status fr_sfs_albedo_solve(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *views,
-                                int nviews, const uint8_t *use, double sigma, double albedo_max, fr_sfs_albedo *out) {
+                                int nviews, const uint8_t *use, double sigma, int texture, fr_sfs_albedo *out) {
     int failed = 0;
 #pragma omp parallel num_threads(fr_threads(ctx))
     {
@@ -119,7 +131,7 @@ frig_status fr_sfs_albedo_solve(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sf
         for (int k = 0; k < uv->count; k++) {
             if (!ob || fr_cancelled(ctx)) continue;
             size_t t = (size_t)uv->texel[k];
-            int n = gather(m, uv, views, nviews, use, k, sigma, albedo_max, ob);
+            int n = gather(m, uv, views, nviews, use, k, sigma, texture, ob);
             double a[3] = {0, 0, 0};
             out->weight[t] = n ? (float)texel_albedo(ob, n, a) : 0.0f;
             for (int c = 0; c < 3; c++) out->albedo[3 * t + c] = (float)(a[c] > 0 ? a[c] : 0);

@@ -20,10 +20,12 @@ void fr_sfs_albedo_free(fr_sfs_albedo *a);
  * v->photo_weight as weights and Tukey's biweight against cast shadows, highlights and
  * misregistered edges (eq. 5.14 and Algorithm 5's mean texture). Texels are independent
  * (parallel, deterministic). sigma: relative intensity error of one standard deviation.
- * albedo_max > 0: a view whose colour would need an albedo above it (linear) in a channel, or
- * whose shading is not positive, does not count (0: every view counts). */
+ * texture: the subject's texture's stricter rules: a view whose colour would need an albedo
+ * above 1 (linear) in a channel, whose shading is not positive, or whose albedo is greener or
+ * bluer than red (more than 5%), does not count (0: every view counts, as the stage's own
+ * lighting fits want). */
 frig_status fr_sfs_albedo_solve(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *views,
-                                int nviews, const uint8_t *use, double sigma, double albedo_max, fr_sfs_albedo *a);
+                                int nviews, const uint8_t *use, double sigma, int texture, fr_sfs_albedo *a);
 
 /* The texture's albedo at view v's face pixels (v->albedo; 'fallback' where no photo saw the
  * texel) and the rig's normals as the view's normal prior (v->n_prior). */

@@ -244,7 +244,7 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
     double albedo_sigma = fmax(st->sigma, 0.03);
     /* Algorithm 5: the albedo from all photos on the fitted normals, and each photo's lighting on it */
     for (int pass = 0; pass < 3 && !s && used; pass++) {
-        s = fr_sfs_albedo_solve(ctx, &r->mesh, &r->uv, r->views, r->n, r->ok, albedo_sigma, 0.0, &r->ps);
+        s = fr_sfs_albedo_solve(ctx, &r->mesh, &r->uv, r->views, r->n, r->ok, albedo_sigma, 0, &r->ps);
         if (!s) s = fr_parallel_items(ctx, n, "sfs.lighting", apply_one, &job);
         /* photos the subject's albedo does not explain (a wrong fit, an occluder, no face) weigh less
          * in the next estimate: the weight is the squared correlation of prediction and photo */

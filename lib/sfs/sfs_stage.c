@@ -18,8 +18,7 @@
 #include "sfs/sfs_run.h"
 #include "workspace/photoset.h"
 
-#define SEEN_SHARE 0.3         /* of the median seen texel's view weight (docs/sfs.md) */
-#define TEXTURE_ALBEDO_MAX 1.0 /* linear: views needing more do not colour the texture */
+#define SEEN_SHARE 0.3 /* of the median seen texel's view weight (docs/sfs.md) */
 
 typedef struct finish_job {
     fr_sfs_run *r;
@@ -139,8 +138,7 @@ frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
     frig_status s = fr_sfs_uv_init(ctx, &r->mesh, r->st.texture_size, &uv);
     if (!s) s = fr_sfs_albedo_init(ctx, &uv, &a);
     if (!s)
-        s = fr_sfs_albedo_solve(ctx, &r->mesh, &uv, r->views, r->n, r->ok, fmax(r->st.sigma, 0.03), TEXTURE_ALBEDO_MAX,
-                                &a);
+        s = fr_sfs_albedo_solve(ctx, &r->mesh, &uv, r->views, r->n, r->ok, fmax(r->st.sigma, 0.03), 1, &a);
     int T = uv.size;
     frig_image *img = s ? NULL : fr_image_new(T, T, 3);
     float *grow = s ? NULL : malloc(sizeof(float) * 4 * (size_t)T * T);
