@@ -128,6 +128,31 @@ static double median_where(const float *v, size_t n, size_t stride, int flag_at,
     return med;
 }
 
+/* grow (T x T texels of r, g, b, mark; mark 1 = seen, 0 = not): unseen texels take the mean of
+ * their seen (or already grown) 4-neighbours, 8 rings outward; a texel grown in ring k is marked
+ * k + 2. */
+static void grow_unseen(float *grow, int T) {
+    for (int pass = 0; pass < 8; pass++)
+        for (int y = 0; y < T; y++)
+            for (int x = 0; x < T; x++) {
+                size_t t = (size_t)y * T + x;
+                if (grow[4 * t + 3] != 0) continue;
+                double acc[3] = {0, 0, 0}, w = 0;
+                for (int d = 0; d < 4; d++) {
+                    int xx = x + (d == 0) - (d == 1), yy = y + (d == 2) - (d == 3);
+                    if (xx < 0 || yy < 0 || xx >= T || yy >= T) continue;
+                    size_t q = (size_t)yy * T + xx;
+                    if (!(grow[4 * q + 3] > 0) || grow[4 * q + 3] > pass + 1) continue;
+                    for (int c = 0; c < 3; c++) acc[c] += grow[4 * q + c];
+                    w += 1;
+                }
+                if (w > 0) {
+                    for (int c = 0; c < 3; c++) grow[4 * t + c] = (float)(acc[c] / w);
+                    grow[4 * t + 3] = (float)(pass + 2);
+                }
+            }
+}
+
 /* The subject's albedo as an sRGB texture of sfs.texture_size texels (Algorithm 5 once more, on
  * the final lighting and the shared shape's normals); texels no photo saw well take the average
  * of their seen neighbours, grown outward a few texels, then the seen texels' median colour. */
@@ -153,25 +178,7 @@ frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
             for (int c = 0; c < 3; c++) grow[4 * t + c] = seen ? a.albedo[3 * t + c] : 0;
             grow[4 * t + 3] = (float)seen;
         }
-        for (int pass = 0; pass < 8; pass++)
-            for (int y = 0; y < T; y++)
-                for (int x = 0; x < T; x++) {
-                    size_t t = (size_t)y * T + x;
-                    if (grow[4 * t + 3] != 0) continue;
-                    double acc[3] = {0, 0, 0}, w = 0;
-                    for (int d = 0; d < 4; d++) {
-                        int xx = x + (d == 0) - (d == 1), yy = y + (d == 2) - (d == 3);
-                        if (xx < 0 || yy < 0 || xx >= T || yy >= T) continue;
-                        size_t q = (size_t)yy * T + xx;
-                        if (!(grow[4 * q + 3] > 0) || grow[4 * q + 3] > pass + 1) continue;
-                        for (int c = 0; c < 3; c++) acc[c] += grow[4 * q + c];
-                        w += 1;
-                    }
-                    if (w > 0) {
-                        for (int c = 0; c < 3; c++) grow[4 * t + c] = (float)(acc[c] / w);
-                        grow[4 * t + 3] = (float)(pass + 2);
-                    }
-                }
+        grow_unseen(grow, T);
         /* What growing does not reach: the seen texels' median colour (the photos' mean skin colour
          * when none was seen). */
         double fill[3];
