@@ -123,7 +123,11 @@ int cmd_retarget(cli_env *env, int argc, char **argv) {
         cli_note(env, "round %d: %d photo%s, neutral moved %.3f mm, cloud RMS %.2f mm", r + 1, photos,
                  photos == 1 ? "" : "s", change, rms);
     }
-    cli_note(env, "wrote the personalized rig to %s (frig export -w %s -o OUT writes rig.glb and OBJ files)", path, ws);
+    if (frig_photoset_retarget_rounds(set) == 0)
+        cli_note(env, "too few photos with a point cloud (under retarget.min_clouds, %g): the rig is left as it was",
+                 frig_ctx_get_param(env->ctx, FRIG_PARAM_RETARGET_MIN_CLOUDS));
+    else
+        cli_note(env, "wrote the personalized rig to %s (frig export -w %s -o OUT writes rig.glb and OBJ files)", path, ws);
 done:
     frig_image_free(albedo);
     frig_clouds_free(clouds);

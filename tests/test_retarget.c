@@ -311,6 +311,16 @@ int main(void) {
     CHECK(frig_photoset_retarget_figures(back, 0, &ib, NULL, NULL, NULL) == FRIG_OK);
     CHECK(frig_photoset_retargeted(back, 0) && ib > 0);
 
+    /* Fewer photos with a cloud than retarget.min_clouds: no round, the rig as it was. */
+    float *kept = malloc(sizeof(float) * 3 * (size_t)nv);
+    if (kept) memcpy(kept, frig_rig_neutral(rig), sizeof(float) * 3 * (size_t)nv);
+    CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_MIN_CLOUDS, PHOTOS + 1) == FRIG_OK);
+    CHECK(frig_retarget_refine(ctx, model, set, &clouds, rig, NULL, NULL) == FRIG_OK);
+    CHECK(frig_photoset_retarget_rounds(set) == 0);
+    CHECK(kept && memcmp(kept, frig_rig_neutral(rig), sizeof(float) * 3 * (size_t)nv) == 0);
+    CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_MIN_CLOUDS, 2) == FRIG_OK);
+    free(kept);
+
     /* Bad input: clouds for another set, no cloud at all. */
     frig_clouds *empty = NULL;
     CHECK(frig_clouds_create(ctx, PHOTOS, &empty) == FRIG_OK);

@@ -257,7 +257,8 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_LOOP_IDENTITY_ITERATIONS = 730, /* retarget.identity_iterations in the outer rounds after the first */
     FRIG_PARAM_RETARGET_LOOP_DEFORM_ITERATIONS = 731,   /* retarget.deform_iterations in the outer rounds after the first */
     FRIG_PARAM_RETARGET_IDENTITY_SPREAD = 732, /* variance of each cloud's own identity about the shared one (default 0.03) */
-    FRIG_PARAM_RETARGET_MARGIN_WEIGHT = 733 /* weight of a cloud's margin points against its own (default 1) */
+    FRIG_PARAM_RETARGET_MARGIN_WEIGHT = 733, /* weight of a cloud's margin points against its own (default 1) */
+    FRIG_PARAM_RETARGET_MIN_CLOUDS = 734     /* with fewer photos with a cloud the rig is left as it is (default 2) */
 } frig_param;
 
 FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);

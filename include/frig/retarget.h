@@ -59,7 +59,8 @@ FRIG_API frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const 
  * fit and clouds as they are. Stops early when the rig's neutral moved less
  * than retarget.stop_mm (mean over the face, mm) in a round. Per-round figures (change,
  * residuals) are recorded in set's report (frig_photoset_save writes them); each round's time
- * goes to the log. */
+ * goes to the log. With fewer than retarget.min_clouds photos with a cloud (default 2) no round
+ * runs: the rig is left as it is (frig_photoset_retarget_rounds says 0). */
 FRIG_API frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_photoset *set,
                                           frig_clouds **clouds, frig_rig *rig, frig_clouds_fn recover, void *user);
 

@@ -298,6 +298,9 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_MARGIN_WEIGHT, "retarget.margin_weight", 1, 0, 1, 0,
      "weight of each cloud's margin points (neck, ears, scalp: sfs.cloud_region 2) in the matches, against the "
      "cloud's own points (0: the margin unused)"},
+    {FRIG_PARAM_RETARGET_MIN_CLOUDS, "retarget.min_clouds", 2, 1, 1000000, 1,
+     "with fewer photos with a point cloud, frig_retarget_refine leaves the rig as it is (measured: one cloud makes "
+     "the neutral worse than the fit's, docs/retarget.md)"},
     {FRIG_PARAM_RETARGET_IDENTITY_SPREAD, "retarget.identity_spread", 0.03, 0, 100, 0,
      "variance (in the model's identity units) of the identity each cloud shows about the shared one: a cloud's "
      "errors are smooth and shared by its points, so each photo's say on the shared identity is capped (0: "

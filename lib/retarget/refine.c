@@ -44,10 +44,14 @@ frig_status frig_retarget_refine(frig_ctx *ctx, const frig_model *model, frig_ph
     int fr = frig_model_region_find(model, "face"), first = 0, nf = 0;
     if (fr < 0 || frig_model_region(model, fr, NULL, &first, &nf) || first != 0)
         return fr_error(ctx, FRIG_ERR_UNSUPPORTED, "the model has no face region starting at vertex 0");
+    set->rt_rounds = 0; /* this run's rounds only */
+    size_t with = 0;
+    for (size_t i = 0; i < set->count; i++) with += frig_clouds_count(*clouds, i) > 0;
+    /* too few to beat the fit (one cloud: docs/retarget.md): the rig stays; none is frig_retarget's error */
+    if (with > 0 && (double)with < fr_param(ctx, FRIG_PARAM_RETARGET_MIN_CLOUDS)) return FRIG_OK;
     float *before = malloc(sizeof(float) * 3 * (size_t)nf);
     if (!before) return fr_nomem(ctx, "the outer loop");
     frig_status s = FRIG_OK;
-    set->rt_rounds = 0; /* this run's rounds only */
     int defer = ctx->rt_defer_albedo;
     fr_rt_pending_albedo_drop(ctx);
     ctx->rt_defer_albedo = 1;
