@@ -460,7 +460,10 @@ static int retarget_run(run_ctx *r) {
     if (rc == CLI_OK) rc = write_texture(r, rec.albedo);
     if (rc == CLI_OK) rc = run_save_rig(r, rig);
     if (rc == CLI_OK) rc = run_save_set(r, set);
-    if (rc == CLI_OK && with) {
+    int personalized = with && frig_photoset_retarget_rounds(set) > 0;
+    if (rc == CLI_OK && !personalized) /* no sheet of a rig that is the fit's (nor one left from a run before) */
+        remove(run_path(r, "overlays/retarget/rigs.png", sheet, sizeof sheet));
+    if (rc == CLI_OK && personalized) {
         const frig_rig *rows[2] = {before, rig};
         const char *labels[2] = {"the fit's rig (the model's span)", "personalized"};
         run_path(r, "overlays/retarget", sheet, sizeof sheet);
