@@ -17,7 +17,10 @@ jobs=$(nproc)
 export FRIG_REF_CACHE="$PWD/build/ref-answers"
 rm -rf "$FRIG_REF_CACHE"
 
-cmake -S . -B build -DFRIG_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+# Ninja, when there (scripts/install-deps.sh --test installs it), keeps both cores busier than make's
+# recursive builds (the sanitized build 100 -> 86 s); a build folder keeps the generator it has.
+generator() { if [ ! -f "$1/CMakeCache.txt" ] && command -v ninja > /dev/null; then echo "-GNinja"; fi; }
+cmake $(generator build) -S . -B build -DFRIG_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build build -j "$jobs"
 (cd build && ctest --output-on-failure -j "$jobs")
 # every test removes its scratch folder when it passes; the imported model they share goes too
@@ -28,7 +31,7 @@ rm -rf build/test-tmp
 # builds only the bench programs the tests run (the plain build compiles them all with -Werror)
 dlib_ref=""
 [ -x build/tools/dlib_ref ] && dlib_ref="$PWD/build/tools/dlib_ref"
-cmake -S . -B build-asan -DFRIG_WERROR=ON -DFRIG_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+cmake $(generator build-asan) -S . -B build-asan -DFRIG_WERROR=ON -DFRIG_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DFRIG_DLIB_REF="$dlib_ref" -DFRIG_BENCH_PROGRAMS="score_shapes;truth_clouds" >/dev/null
 cmake --build build-asan -j "$jobs"
 # Two allocator settings that change no check, only the page faults (each costly in a VM): the shadow

@@ -16,6 +16,17 @@
 #include "retarget/retarget.h"
 
 #define MOVING 1e-4 /* metres: a vertex no shape moves more than this carries no weight information */
+#define BLOCK 256   /* moving vertices per product of the photos' k x k matrices */
+
+/* The packed lower triangle of D_v^T D_v for one vertex's k deltas side by side (dv: 3 k floats). */
+static void pack_gram(const float *dv, int k, double *g) {
+    int q = 0;
+    for (int c = 0; c < k; c++)
+        for (int r = c; r < k; r++) {
+            const float *dr = dv + 3 * r, *dc = dv + 3 * c;
+            g[q++] = (double)dr[0] * dc[0] + (double)dr[1] * dc[1] + (double)dr[2] * dc[2];
+        }
+}
 
 frig_status fr_rt_fit_weights(frig_ctx *ctx, const fr_rt_settings *s, int nv, int k, const float *neutral,
                               const float *D, int n, fr_rt_photo *photos) {
@@ -36,8 +47,8 @@ frig_status fr_rt_fit_weights(frig_ctx *ctx, const fr_rt_settings *s, int nv, in
         for (int q = 0; q < 3 * k; q++) big = fmax(big, fabs(Dv[3 * (size_t)v * k + q]));
         if (big > MOVING) vert[nm++] = v;
     }
-    double *G = malloc(sizeof(double) * (size_t)P * ((size_t)nm + 1));
-    double *C = malloc(sizeof(double) * (size_t)nm * ((size_t)n + 1));
+    double *G = malloc(sizeof(double) * (size_t)P * BLOCK);
+    double *C = malloc(sizeof(double) * ((size_t)nm * n + 1));
     double *H = malloc(sizeof(double) * (size_t)P * ((size_t)n + 1));
     double *Dd = malloc(sizeof(double) * n3 * (size_t)k);
     size_t per_thread = (size_t)k * k + 3 * (size_t)k + n3;
@@ -45,21 +56,18 @@ frig_status fr_rt_fit_weights(frig_ctx *ctx, const fr_rt_settings *s, int nv, in
     frig_status st = G && C && H && Dd && work ? FRIG_OK : fr_nomem(ctx, "the expression weights");
     if (st) goto done;
     for (size_t q = 0; q < n3 * (size_t)k; q++) Dd[q] = D[q];
-    /* G[:, a] = packed lower D_v^T D_v of moving vertex a. */
-    for (int a = 0; a < nm; a++) {
-        int v = vert[a], q = 0;
-        double *g = G + (size_t)P * a;
-        const float *dv = Dv + 3 * (size_t)v * k;
-        for (int c = 0; c < k; c++)
-            for (int r = c; r < k; r++) {
-                const float *dr = dv + 3 * r, *dc = dv + 3 * c;
-                g[q++] = (double)dr[0] * dc[0] + (double)dr[1] * dc[1] + (double)dr[2] * dc[2];
-            }
-    }
     for (int i = 0; i < n; i++)
         for (int a = 0; a < nm; a++) C[(size_t)i * nm + a] = photos[i].cover[vert[a]];
+    if (nm == 0) memset(H, 0, sizeof(double) * (size_t)P * n);
     int saved = fr_blas_serial_begin();
-    cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, P, n, nm, 1.0, G, P, C, nm, 0.0, H, P);
+    /* H = G C over blocks of moving vertices, G[:, a] = packed lower D_v^T D_v of moving vertex a:
+     * a block's G is made and multiplied in a buffer used again (the whole G, P x nm doubles, is
+     * about 90 MB for 50 shapes, each page of it written once). */
+    for (int a0 = 0; a0 < nm; a0 += BLOCK) {
+        int nb = nm - a0 < BLOCK ? nm - a0 : BLOCK;
+        for (int b = 0; b < nb; b++) pack_gram(Dv + 3 * (size_t)vert[a0 + b] * k, k, G + (size_t)P * b);
+        cblas_dgemm(CblasColMajor, CblasNoTrans, CblasNoTrans, P, n, nb, 1.0, G, P, C + a0, nm, a0 ? 1.0 : 0.0, H, P);
+    }
     int failed = 0;
 #pragma omp parallel for schedule(dynamic) num_threads(s->threads)
     for (int i = 0; i < n; i++) {
