@@ -285,6 +285,7 @@ static int write_record(run_ctx *r, int i, cJSON *opts) {
     cJSON_AddNumberToObject(rec, "version", 1);
     cJSON_AddStringToObject(rec, "stage", run_stages[i].name);
     cJSON_AddStringToObject(rec, "frig", frig_version_string());
+    cJSON_AddStringToObject(rec, "build", r->build);
     cJSON_AddStringToObject(rec, "key", res->key);
     cJSON_AddStringToObject(rec, "digest", res->digest);
     cJSON_AddStringToObject(rec, "summary", res->summary);
@@ -387,7 +388,7 @@ static int run_stage_at(run_ctx *r, int i, const char *prev_digest, const char *
     run_hash h;
     run_hash_init(&h);
     run_hash_str(&h, st->name);
-    run_hash_str(&h, frig_version_string());
+    run_hash_str(&h, r->build);
     run_hash_str(&h, text ? text : "");
     run_hash_str(&h, prev_digest);
     if (!st->digest[0] || strcmp(st->name, "report") == 0) run_hash_str(&h, all_keys);
@@ -435,6 +436,7 @@ int cmd_run(cli_env *env, int argc, char **argv) {
     if (!r) return cli_fail_msg("run", "out of memory");
     r->env = env;
     r->t0 = run_now();
+    run_build_hash(r->build); /* what it cannot read it leaves out: then only the version tells builds apart */
     const char *out = NULL;
     cli_inputs inputs = {0};
     int rc = CLI_OK;

@@ -72,6 +72,7 @@ struct run_ctx {
     frig_model *model;    /* loaded when a stage needs it */
     /* the stage running now */
     int stage;
+    char build[17];       /* run_build_hash: which build made the stages' outputs */
     char from[4096];      /* the folder whose report.json the stage starts from */
     char rig_from[4200];  /* the rig the stage starts from (the last rig stage's snapshot) */
     char stop[1024];      /* why the run stopped (RUN_STOP) */
@@ -97,6 +98,10 @@ void run_hash_str(run_hash *h, const char *s);
 /* The file's contents; -1 (and errno) when it cannot be read. */
 int run_hash_file(run_hash *h, const char *path);
 void run_hex(uint64_t v, char out[17]);
+/* ---- run_build.c ---- */
+/* A hash of the version, the frig program's bytes and the loaded libfrig's (-1 when one cannot be read:
+ * the hash is then of what could be). */
+int run_build_hash(char out[17]);
 /* Regular, non-hidden files of a folder in name order (malloc'd paths; caller frees each and
  * the array). -1 when the folder cannot be read (a missing folder: 0 files, returns 0). */
 int run_list_files(const char *dir, char ***out, size_t *count);
