@@ -11,7 +11,7 @@ if [ "$(id -u)" != 0 ]; then SUDO="sudo"; fi
 
 build_pkgs="build-essential cmake pkg-config libopenblas-dev liblapacke-dev libsuitesparse-dev
   libpng-dev libjpeg62-turbo-dev libcjson-dev zlib1g-dev libdlib-data opencv-data nodejs npm"
-test_pkgs="ninja-build libdlib-dev python3-opencv python3-numpy blender binutils abigail-tools ffmpeg chromium"
+test_pkgs="ninja-build ccache libdlib-dev python3-opencv python3-numpy blender binutils abigail-tools ffmpeg chromium"
 
 want="$build_pkgs"
 if [ "${1:-}" = "--test" ]; then want="$want $test_pkgs"; fi

@@ -20,7 +20,15 @@ rm -rf "$FRIG_REF_CACHE"
 # Ninja, when there (scripts/install-deps.sh --test installs it), keeps both cores busier than make's
 # recursive builds (the sanitized build 100 -> 86 s); a build folder keeps the generator it has.
 generator() { if [ ! -f "$1/CMakeCache.txt" ] && command -v ninja > /dev/null; then echo "-GNinja"; fi; }
-cmake $(generator build) -S . -B build -DFRIG_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
+# ccache, when there (install-deps --test installs it), compiles again only what changed since an
+# earlier run on this machine, in whatever folder the clone is (paths taken relative to it; the
+# debug info's folder not hashed). A cold cache builds as fast as without it.
+launcher=()
+if command -v ccache > /dev/null; then
+  export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1
+  launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+cmake $(generator build) "${launcher[@]}" -S . -B build -DFRIG_WERROR=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo >/dev/null
 cmake --build build -j "$jobs"
 (cd build && ctest --output-on-failure -j "$jobs")
 # every test removes its scratch folder when it passes; the imported model they share goes too
@@ -31,7 +39,7 @@ rm -rf build/test-tmp
 # builds only the bench programs the tests run (the plain build compiles them all with -Werror)
 dlib_ref=""
 [ -x build/tools/dlib_ref ] && dlib_ref="$PWD/build/tools/dlib_ref"
-cmake $(generator build-asan) -S . -B build-asan -DFRIG_WERROR=ON -DFRIG_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+cmake $(generator build-asan) "${launcher[@]}" -S . -B build-asan -DFRIG_WERROR=ON -DFRIG_SANITIZE=ON -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DFRIG_DLIB_REF="$dlib_ref" -DFRIG_BENCH_PROGRAMS="score_shapes;truth_clouds" >/dev/null
 cmake --build build-asan -j "$jobs"
 # Two allocator settings that change no check, only the page faults (each costly in a VM): the shadow
