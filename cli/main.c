@@ -158,8 +158,8 @@ static void tune_malloc(void) {
 /* glibc's malloc backs its heap with transparent huge pages only when told so at start-up
  * (GLIBC_TUNABLES=glibc.malloc.hugetlb=1, glibc 2.35 and later; in the kernel's usual "madvise"
  * mode nothing else gets them). The stages write hundreds of megabytes of fresh memory per run,
- * a page fault every 4 KB without them: frig run on lfw_tony_blair 32.2 -> 29.1 s, a small
- * synthetic run's faults 131,000 -> 11,000. So frig starts itself once more with the variable
+ * a page fault every 4 KB without them: frig run on lfw_tony_blair 31.6 -> 28.4 s, a small
+ * synthetic run's faults 79,000 -> 9,600 (docs/run.md). So frig starts itself once more with the variable
  * set, unless it is set already: the user's own tunables (an empty value turns this off), or
  * this second start. Without /proc it goes on as it started. Sanitized builds use their own
  * allocator and skip it. */
