@@ -22,7 +22,7 @@ rm -rf "$FRIG_REF_CACHE"
 generator() { if [ ! -f "$1/CMakeCache.txt" ] && command -v ninja > /dev/null; then echo "-GNinja"; fi; }
 # ccache, when there (install-deps --test installs it), compiles again only what changed since an
 # earlier run on this machine, in whatever folder the clone is (paths taken relative to it; the
-# debug info's folder not hashed). A cold cache builds as fast as without it.
+# debug info's folder not hashed).
 launcher=()
 if command -v ccache > /dev/null; then
   export CCACHE_BASEDIR="$PWD" CCACHE_NOHASHDIR=1

@@ -25,7 +25,7 @@ printf '\x89PNG\r\n\x1a\n' > "$tmp/cut.png"
 "$F" info "$tmp/cut.png" "$tmp/empty.jpg" "$tmp/missing.jpg" > "$tmp/out"; check '[ $? = 1 ]'
 check '[ $(wc -l < "$tmp/out") = 3 ]'
 # frig starts itself again with glibc's huge pages (cli/main.c) unless GLIBC_TUNABLES is set: the
-# same output and exit code either way, and the process is frig both times.
+# same output and exit code either way.
 env -u GLIBC_TUNABLES "$F" info "$tmp/cut.png" "$tmp/empty.jpg" "$tmp/missing.jpg" > "$tmp/out_restart"; check '[ $? = 1 ]'
 GLIBC_TUNABLES= "$F" info "$tmp/cut.png" "$tmp/empty.jpg" "$tmp/missing.jpg" > "$tmp/out_plain"; check '[ $? = 1 ]'
 check 'cmp -s "$tmp/out_restart" "$tmp/out" && cmp -s "$tmp/out_plain" "$tmp/out"'
