@@ -472,13 +472,13 @@ static int retarget_run(run_ctx *r) {
         if (rc == CLI_OK && frig_retarget_write_sheet(env->ctx, r->model, rows, labels, 2, sheet)) rc = fail_or_interrupted(r);
     }
     if (rc == CLI_OK && !with) run_summary(r, "no point clouds: the rig is the fit's");
-    else if (rc == CLI_OK && frig_photoset_retarget_rounds(set) == 0)
+    else if (rc == CLI_OK && !personalized)
         run_summary(r, "%zu photo%s with a point cloud, under retarget.min_clouds (%g): the rig is the fit's", with,
                     with == 1 ? "" : "s", frig_ctx_get_param(env->ctx, FRIG_PARAM_RETARGET_MIN_CLOUDS));
     else if (rc == CLI_OK) {
-        int rounds = frig_photoset_retarget_rounds(set), photos = 0;
+        int rounds = frig_photoset_retarget_rounds(set), photos = 0; /* > 0: personalized */
         double change = 0, rms = 0;
-        if (rounds > 0) frig_photoset_retarget_round(set, rounds - 1, &change, &photos, &rms);
+        frig_photoset_retarget_round(set, rounds - 1, &change, &photos, &rms);
         run_summary(r, "%d round%s (clouds recovered %d times more), %d photos, last round moved the neutral %.3f mm, cloud RMS %.2f mm",
                     rounds, rounds == 1 ? "" : "s", rec.calls, photos, change, rms);
     }
