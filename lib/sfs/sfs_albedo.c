@@ -7,7 +7,10 @@
  * For the texture a view whose colour would need an albedo above 1 (or whose shading is not
  * positive), or an albedo greener or bluer than red, does not count: on Bing Will Smith such
  * views painted the face's sides and the neck's top in saturated red, green, magenta and black
- * (docs/sfs.md, "The albedo texture's outline"). */
+ * (docs/sfs.md, "The albedo texture's outline"). The texture's views are also divided by a shading
+ * whose colour stays near the light's colour on a surface facing the camera
+ * (fr_sfs_texture_shading), which took the yellow-green off the face's sides ("The albedo
+ * texture's colours"). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -21,6 +24,7 @@
 #define VISIBLE_TOL 0.004 /* metres: a texel this close behind the drawn surface is seen */
 #define MIN_COS 0.2
 #define ALBEDO_MAX 1.0  /* linear: the texture's views need no more */
+#define LIGHT_HUE_SPREAD 0.1 /* the texture's shading: each channel's share within 10% of the frontal light's */
 #define SKIN_CHROMA 1.05 /* the texture's views: green and blue at most this times red */
 
 void fr_sfs_albedo_free(fr_sfs_albedo *a) {
@@ -58,6 +62,18 @@ static int skin_colour(const obs *ob) {
     return a[1] <= SKIN_CHROMA * a[0] && a[2] <= SKIN_CHROMA * a[0];
 }
 
+void fr_sfs_texture_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[3]) {
+    const float front[3] = {0, 0, -1};
+    double F[3];
+    fr_sfs_shading(sh, front, F);
+    fr_sfs_shading(sh, n, S);
+    double level = (S[0] + S[1] + S[2]) / 3, front_level = (F[0] + F[1] + F[2]) / 3;
+    for (int c = 0; c < 3; c++) {
+        double hue = front_level > 0 && level > 0 ? F[c] / front_level : 0, own = level > 0 ? S[c] / level : 0;
+        S[c] = level * fmin(fmax(own, hue * (1 - LIGHT_HUE_SPREAD)), hue * (1 + LIGHT_HUE_SPREAD));
+    }
+}
+
 /* Texel k as each used view shows it: colour, shading, weight. */
 static int gather(const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *views, int nviews, const uint8_t *use,
                   int k, double sigma, int texture, obs *o) {
@@ -82,7 +98,8 @@ static int gather(const fr_sfs_mesh *m, const fr_sfs_uv *uv, const fr_sfs_view *
         if (cosv < MIN_COS) continue;
         obs *ob = &o[n];
         fr_bilinear3(v->I, v->w, v->h, xy, ob->I);
-        fr_sfs_shading(v->sh, nc, ob->S);
+        if (texture) fr_sfs_texture_shading(v->sh, nc, ob->S);
+        else fr_sfs_shading(v->sh, nc, ob->S);
         if (texture && !skin_colour(ob)) continue;
         n++;
         double mean = (ob->I[0] + ob->I[1] + ob->I[2]) / 3;

@@ -19,6 +19,7 @@
 #include "workspace/photoset.h"
 
 #define SEEN_SHARE 0.3 /* of the median seen texel's view weight (docs/sfs.md) */
+#define BRIGHT_QUANTILE 0.8 /* texels seen less than the median: at most this quantile of the others' brightness */
 
 typedef struct finish_job {
     fr_sfs_run *r;
@@ -128,6 +129,30 @@ static double median_where(const float *v, size_t n, size_t stride, int flag_at,
     return med;
 }
 
+/* Texels that their views weigh less than a typical texel (the median seen one: only grazing
+ * views saw them, where the lighting's shading is least sure and small) are brought down to the
+ * BRIGHT_QUANTILE of the brightness (mean of r, g, b) of the texels seen at least that well, their
+ * colour kept: dividing by the faint shading of a face's side painted a bright rim there
+ * (docs/sfs.md, "The albedo texture's colours"). */
+static void cap_faint_texels(fr_sfs_albedo *a, size_t n, double wmed) {
+    float *lum = malloc(sizeof(float) * (n + 1));
+    size_t m = 0;
+    for (size_t t = 0; lum && t < n; t++)
+        if (a->weight[t] > 0 && a->weight[t] >= wmed)
+            lum[m++] = (a->albedo[3 * t] + a->albedo[3 * t + 1] + a->albedo[3 * t + 2]) / 3;
+    if (m) {
+        qsort(lum, m, sizeof(float), cmp_float);
+        double cap = lum[(size_t)(BRIGHT_QUANTILE * (double)(m - 1))];
+        for (size_t t = 0; t < n; t++) {
+            float *c = a->albedo + 3 * t;
+            double l = (c[0] + c[1] + c[2]) / 3.0;
+            if (a->weight[t] > 0 && a->weight[t] < wmed && l > cap)
+                for (int k = 0; k < 3; k++) c[k] = (float)(c[k] * cap / l);
+        }
+    }
+    free(lum);
+}
+
 /* grow (T x T texels of r, g, b, mark; mark 1 = seen, 0 = not): unseen texels take the mean of
  * their seen (or already grown) 4-neighbours, 8 rings outward; a texel grown in ring k is marked
  * k + 2. */
@@ -172,7 +197,8 @@ frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
         size_t n = (size_t)T * T;
         /* A texel counts as seen when its views weigh at least SEEN_SHARE of a typical seen
          * texel's (a texel only a grazing view or two showed is the outline's colour). */
-        double wmin = SEEN_SHARE * median_where(a.weight, n, 1, -1, 0.0);
+        double wmed = median_where(a.weight, n, 1, -1, 0.0), wmin = SEEN_SHARE * wmed;
+        cap_faint_texels(&a, n, wmed);
         for (size_t t = 0; t < n; t++) {
             int seen = a.weight[t] > 0 && a.weight[t] >= wmin;
             for (int c = 0; c < 3; c++) grow[4 * t + c] = seen ? a.albedo[3 * t + c] : 0;
