@@ -16,6 +16,7 @@
 #include "frig/frig.h"
 #include "image/gaussian_blur.h"
 #include "image/image.h"
+#include "image/pull_push.h"
 #include "testing.h"
 
 static frig_ctx *ctx;
@@ -497,6 +498,50 @@ static void test_saves(void) {
 /* The Gaussian blur (lib/image/gaussian_blur.c): an impulse becomes the sampled, normalized
  * Gaussian (its sum 1, its centre and its spread the kernel's), a constant stays constant at the
  * borders, channels do not mix. */
+/* Pull-push filling (image/pull_push.h): on a smooth colour ramp with a disc and a band unknown
+ * the filled pixels land near the ramp (the fill is smooth and follows its neighbours), the
+ * known pixels keep their colours to the bit; nothing known leaves the image as it was. */
+static void test_pull_push(void) {
+    enum { W = 96, H = 80 };
+    float *img = malloc(sizeof(float) * 3 * W * H), *truth = malloc(sizeof(float) * 3 * W * H);
+    uint8_t *known = malloc(W * H);
+    CHECK(img && truth && known);
+    if (!img || !truth || !known) {
+        free(img), free(truth), free(known);
+        return;
+    }
+    int unknown = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            size_t i = (size_t)y * W + x;
+            truth[3 * i] = 0.2f + 0.6f * x / (W - 1), truth[3 * i + 1] = 0.1f + 0.5f * y / (H - 1);
+            truth[3 * i + 2] = 0.3f + 0.2f * (x + y) / (W + H - 2);
+            int hole = (x - 40) * (x - 40) + (y - 30) * (y - 30) < 15 * 15 || (y >= 60 && y < 66);
+            known[i] = (uint8_t)!hole;
+            unknown += hole;
+            for (int c = 0; c < 3; c++) img[3 * i + c] = hole ? 9.0f : truth[3 * i + c];
+        }
+    CHECK(fr_pull_push(img, known, W, H) == 1);
+    double worst = 0, mean = 0;
+    int kept = 1;
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        for (int c = 0; c < 3; c++) {
+            if (known[i]) kept &= img[3 * i + c] == truth[3 * i + c];
+            else {
+                double e = fabs(img[3 * i + c] - truth[3 * i + c]);
+                worst = fmax(worst, e), mean += e / (3.0 * unknown);
+            }
+        }
+    printf("pull-push: %d unknown pixels of %d, error mean %.4f worst %.4f; known ones kept: %s\n", unknown, W * H, mean,
+           worst, kept ? "yes" : "NO");
+    CHECK(kept);
+    CHECK(mean < 0.01 && worst < 0.05);
+    memset(known, 0, W * H);
+    float before = img[0];
+    CHECK(fr_pull_push(img, known, W, H) == 0 && img[0] == before);
+    free(img), free(truth), free(known);
+}
+
 static void test_gaussian_blur(void) {
     enum { W = 41, H = 37 };
     float *in = calloc(2 * W * H, sizeof(float)), *out = malloc(sizeof(float) * 2 * W * H);
@@ -560,6 +605,7 @@ static void test_gaussian_blur(void) {
 int main(void) {
     ctx = frig_ctx_create();
     test_gaussian_blur();
+    test_pull_push();
     dir = test_temp_dir("image_corpus");
     test_bad_files();
     test_orientations();

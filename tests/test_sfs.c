@@ -493,8 +493,8 @@ static void check_kept_albedo(const scene *sc, const frig_image *albedo) {
 
 /* The albedo texture against the subject's painted albedo (lib/eval/albedo_error.h): views whose
  * colour needs an albedo above 1 or is no skin's, and texels only a grazing view or two showed,
- * do not colour it; the shading's colour stays the light's, and faintly seen texels are no
- * brighter than most well seen ones. */
+ * do not colour it; the shading's colour stays the light's, faintly seen texels are no
+ * brighter than most well seen ones, and the unseen ones are filled smoothly (pull-push). */
 static void check_albedo_error(const frig_image *albedo) {
     frig_model *model = fixture_model(ctx);
     frig_synth_subject *subj = NULL;
@@ -505,11 +505,12 @@ static void check_albedo_error(const frig_image *albedo) {
     if (ok) {
         printf("albedo texture: %d face skin vertices, error mean %.3f p90 %.3f, %.2f%% over %.1f\n", e.vertices, e.mean,
                e.p90, 100.0 * e.gross, FR_ALBEDO_GROSS);
-        /* measured 0.371 and 28% (0.468 and 48% with the lighting's own colour at every normal and
-         * no cap on the faintly seen texels' brightness; 0.584 and 59% with every view and every
-         * seen texel counted as well) */
+        /* measured 0.356 and 25% (0.371 and 28% with the unseen texels grown 8 texels out, then one
+         * colour; 0.468 and 48% with the lighting's own colour at every normal and no cap on the
+         * faintly seen texels' brightness as well; 0.584 and 59% with every view and every seen
+         * texel counted as well) */
         CHECK(e.vertices > 5000);
-        CHECK(e.mean < 0.41 && e.gross < 0.32);
+        CHECK(e.mean < 0.39 && e.gross < 0.28);
     }
     frig_synth_subject_free(subj);
     frig_model_free(model);

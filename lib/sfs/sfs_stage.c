@@ -11,6 +11,7 @@
 #include "core/context.h"
 #include "frig/sfs.h"
 #include "image/image.h"
+#include "image/pull_push.h"
 #include "image/srgb.h"
 #include "io/file.h"
 #include "raster/rotation.h"
@@ -19,6 +20,7 @@
 #include "workspace/photoset.h"
 
 #define SEEN_SHARE 0.3 /* of the median seen texel's view weight (docs/sfs.md) */
+#define SHADOW_SHARE 0.6 /* off the narrow face: texels darker than this times the skin are not seen */
 #define BRIGHT_QUANTILE 0.8 /* texels seen less than the median: at most this quantile of the others' brightness */
 
 typedef struct finish_job {
@@ -153,34 +155,18 @@ static void cap_faint_texels(fr_sfs_albedo *a, size_t n, double wmed) {
     free(lum);
 }
 
-/* grow (T x T texels of r, g, b, mark; mark 1 = seen, 0 = not): unseen texels take the mean of
- * their seen (or already grown) 4-neighbours, 8 rings outward; a texel grown in ring k is marked
- * k + 2. */
-static void grow_unseen(float *grow, int T) {
-    for (int pass = 0; pass < 8; pass++)
-        for (int y = 0; y < T; y++)
-            for (int x = 0; x < T; x++) {
-                size_t t = (size_t)y * T + x;
-                if (grow[4 * t + 3] != 0) continue;
-                double acc[3] = {0, 0, 0}, w = 0;
-                for (int d = 0; d < 4; d++) {
-                    int xx = x + (d == 0) - (d == 1), yy = y + (d == 2) - (d == 3);
-                    if (xx < 0 || yy < 0 || xx >= T || yy >= T) continue;
-                    size_t q = (size_t)yy * T + xx;
-                    if (!(grow[4 * q + 3] > 0) || grow[4 * q + 3] > pass + 1) continue;
-                    for (int c = 0; c < 3; c++) acc[c] += grow[4 * q + c];
-                    w += 1;
-                }
-                if (w > 0) {
-                    for (int c = 0; c < 3; c++) grow[4 * t + c] = (float)(acc[c] / w);
-                    grow[4 * t + 3] = (float)(pass + 2);
-                }
-            }
+/* Texels off the narrow face (the neck, the ears, the scalp) darker than SHADOW_SHARE of the
+ * narrow face's skin do not count as seen: the neck under the jaw is in the jaw's shadow in most
+ * photos, which the lighting (no cast shadows) leaves in the albedo as grey and dark red blotches. */
+static void drop_shadowed(const float *rgb, const uint8_t *core, size_t n, const double skin[3], uint8_t *known) {
+    double level = (skin[0] + skin[1] + skin[2]) / 3;
+    for (size_t t = 0; t < n; t++)
+        if (known[t] && !core[t] && (rgb[3 * t] + rgb[3 * t + 1] + rgb[3 * t + 2]) / 3 < SHADOW_SHARE * level) known[t] = 0;
 }
 
 /* The subject's albedo as an sRGB texture of sfs.texture_size texels (Algorithm 5 once more, on
- * the final lighting and the shared shape's normals); texels no photo saw well take the average
- * of their seen neighbours, grown outward a few texels, then the seen texels' median colour. */
+ * the final lighting and the shared shape's normals); texels no photo saw well, and shadowed ones
+ * off the narrow face, are filled smoothly from the seen ones (pull-push, image/pull_push.h). */
 frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
     fr_sfs_uv uv;
     fr_sfs_albedo a;
@@ -190,39 +176,47 @@ frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
     if (!s)
         s = fr_sfs_albedo_solve(ctx, &r->mesh, &uv, r->views, r->n, r->ok, fmax(r->st.sigma, 0.03), 1, &a);
     int T = uv.size;
+    size_t n = (size_t)T * T;
     frig_image *img = s ? NULL : fr_image_new(T, T, 3);
-    float *grow = s ? NULL : malloc(sizeof(float) * 4 * (size_t)T * T);
-    if (!s && (!img || !grow)) s = fr_nomem(ctx, "the albedo texture");
+    float *rgb = s ? NULL : malloc(sizeof(float) * 4 * n);
+    uint8_t *known = s ? NULL : calloc(n, 1), *core = s ? NULL : calloc(n, 1);
+    if (!s && (!img || !rgb || !known || !core)) s = fr_nomem(ctx, "the albedo texture");
     if (!s) {
-        size_t n = (size_t)T * T;
         /* A texel counts as seen when its views weigh at least SEEN_SHARE of a typical seen
          * texel's (a texel only a grazing view or two showed is the outline's colour). */
         double wmed = median_where(a.weight, n, 1, -1, 0.0), wmin = SEEN_SHARE * wmed;
         cap_faint_texels(&a, n, wmed);
+        for (int k = 0; k < uv.count; k++) core[uv.texel[k]] = r->mesh.core[uv.tri[k]];
+        /* the skin: the narrow face's well seen texels' median colour (the photos' mean skin colour
+         * when none was seen) */
         for (size_t t = 0; t < n; t++) {
-            int seen = a.weight[t] > 0 && a.weight[t] >= wmin;
-            for (int c = 0; c < 3; c++) grow[4 * t + c] = seen ? a.albedo[3 * t + c] : 0;
-            grow[4 * t + 3] = (float)seen;
+            for (int c = 0; c < 3; c++) rgb[4 * t + c] = a.albedo[3 * t + c];
+            rgb[4 * t + 3] = (float)(core[t] && a.weight[t] > 0 && a.weight[t] >= wmed);
         }
-        grow_unseen(grow, T);
-        /* What growing does not reach: the seen texels' median colour (the photos' mean skin colour
-         * when none was seen). */
-        double fill[3];
-        for (int c = 0; c < 3; c++) fill[c] = median_where(grow + c, n, 4, 3 - c, r->mean_albedo[c]);
+        double skin[3];
+        for (int c = 0; c < 3; c++) skin[c] = median_where(rgb + c, n, 4, 3 - c, r->mean_albedo[c]);
+        for (size_t t = 0; t < n; t++) {
+            for (int c = 0; c < 3; c++) rgb[3 * t + c] = a.albedo[3 * t + c];
+            known[t] = a.weight[t] > 0 && a.weight[t] >= wmin;
+        }
+        drop_shadowed(rgb, core, n, skin, known);
+        /* texels no photo saw well: filled smoothly from the seen ones (the skin's colour when none was) */
+        int filled = fr_pull_push(rgb, known, T, T);
+        if (filled < 0) s = fr_nomem(ctx, "the albedo texture");
+        for (size_t t = 0; filled == 0 && t < n; t++)
+            for (int c = 0; c < 3; c++) rgb[3 * t + c] = (float)skin[c];
+    }
+    if (!s) {
         for (int y = 0; y < T; y++)
-            for (int x = 0; x < T; x++) {
-                size_t t = (size_t)y * T + x;
-                for (int c = 0; c < 3; c++) {
-                    double lin = grow[4 * t + 3] > 0 ? grow[4 * t + c] : fill[c];
+            for (int x = 0; x < T; x++)
+                for (int c = 0; c < 3; c++)
                     img->pixels[(size_t)y * img->stride + 3 * (size_t)x + c] =
-                        (uint8_t)floor(255.0 * fr_linear_to_srgb(lin) + 0.5);
-                }
-            }
+                        (uint8_t)floor(255.0 * fr_linear_to_srgb(rgb[3 * ((size_t)y * T + x) + c]) + 0.5);
         *out = img;
         img = NULL;
     }
     frig_image_free(img);
-    free(grow);
+    free(rgb), free(known), free(core);
     fr_sfs_albedo_free(&a);
     fr_sfs_uv_free(&uv);
     return s;
