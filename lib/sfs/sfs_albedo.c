@@ -69,8 +69,8 @@ void fr_sfs_texture_shading(const double sh[3][FR_SH_COUNT], const float n[3], d
     fr_sfs_shading(sh, n, S);
     double level = (S[0] + S[1] + S[2]) / 3, front_level = (F[0] + F[1] + F[2]) / 3;
     for (int c = 0; c < 3; c++) {
-        double hue = front_level > 0 && level > 0 ? F[c] / front_level : 0, own = level > 0 ? S[c] / level : 0;
-        S[c] = level * fmin(fmax(own, hue * (1 - LIGHT_HUE_SPREAD)), hue * (1 + LIGHT_HUE_SPREAD));
+        double front_share = front_level > 0 && level > 0 ? F[c] / front_level : 0, share = level > 0 ? S[c] / level : 0;
+        S[c] = level * fmin(fmax(share, front_share * (1 - LIGHT_HUE_SPREAD)), front_share * (1 + LIGHT_HUE_SPREAD));
     }
 }
 
