@@ -6,7 +6,6 @@
 #include "image/pull_push.h"
 
 #include <stdlib.h>
-#include <string.h>
 
 #include "image/bilinear.h"
 
@@ -58,24 +57,25 @@ int fr_pull_push(float *img, const uint8_t *known, int w, int h) {
     int ok = L != NULL;
     for (int l = 0, a = w, b = h; ok && l < n; l++, a = (a + 1) / 2, b = (b + 1) / 2) {
         L[l].w = a, L[l].h = b;
-        L[l].rgb = malloc(sizeof(float) * 3 * (size_t)a * b);
+        L[l].rgb = l ? malloc(sizeof(float) * 3 * (size_t)a * b) : img; /* the finest level is the image */
         L[l].wt = malloc(sizeof(float) * (size_t)a * b);
         ok = L[l].rgb && L[l].wt;
     }
     int result = ok ? 1 : -1;
     if (ok) {
         size_t np = (size_t)w * h;
-        memcpy(L[0].rgb, img, sizeof(float) * 3 * np);
         for (size_t i = 0; i < np; i++) L[0].wt[i] = known[i] ? 1.0f : 0.0f;
         for (int l = 1; l < n; l++) pull(&L[l - 1], &L[l]);
         if (!(L[n - 1].wt[0] > 0)) result = 0;
         else {
             L[n - 1].wt[0] = 1;
             for (int l = n - 2; l >= 0; l--) push(&L[l], &L[l + 1]);
-            memcpy(img, L[0].rgb, sizeof(float) * 3 * np);
         }
     }
-    for (int l = 0; L && l < n; l++) free(L[l].rgb), free(L[l].wt);
+    for (int l = 0; L && l < n; l++) {
+        if (l) free(L[l].rgb);
+        free(L[l].wt);
+    }
     free(L);
     return result;
 }
