@@ -495,9 +495,6 @@ static void test_saves(void) {
     frig_image_free(src);
 }
 
-/* The Gaussian blur (lib/image/gaussian_blur.c): an impulse becomes the sampled, normalized
- * Gaussian (its sum 1, its centre and its spread the kernel's), a constant stays constant at the
- * borders, channels do not mix. */
 /* Pull-push filling (image/pull_push.h): on a smooth colour ramp with a disc and a band unknown
  * the filled pixels land near the ramp (the fill is smooth and follows its neighbours), the
  * known pixels keep their colours to the bit; nothing known leaves the image as it was. */
@@ -542,6 +539,9 @@ static void test_pull_push(void) {
     free(img), free(truth), free(known);
 }
 
+/* The Gaussian blur (lib/image/gaussian_blur.c): an impulse becomes the sampled, normalized
+ * Gaussian (its sum 1, its centre and its spread the kernel's), a constant stays constant at the
+ * borders, channels do not mix. */
 static void test_gaussian_blur(void) {
     enum { W = 41, H = 37 };
     float *in = calloc(2 * W * H, sizeof(float)), *out = malloc(sizeof(float) * 2 * W * H);

@@ -220,9 +220,9 @@ static void test_texture_shading(void) {
     double fl = (F[0] + F[1] + F[2]) / 3, sl = (S[0] + S[1] + S[2]) / 3, tl = (T[0] + T[1] + T[2]) / 3;
     double own_worst = 0, kept_worst = 0;
     for (int c = 0; c < 3; c++) {
-        double hue = F[c] / fl;
-        own_worst = fmax(own_worst, fabs(S[c] / sl / hue - 1));
-        kept_worst = fmax(kept_worst, fabs(T[c] / sl / hue - 1));
+        double front_share = F[c] / fl;
+        own_worst = fmax(own_worst, fabs(S[c] / sl / front_share - 1));
+        kept_worst = fmax(kept_worst, fabs(T[c] / sl / front_share - 1));
     }
     printf("texture shading, green apart at a grazing normal: share off the frontal light's %.3f -> %.3f, level %.4f -> %.4f\n",
            own_worst, kept_worst, sl, tl);
