@@ -9,6 +9,7 @@
 
 #include "core/clock.h"
 #include "core/context.h"
+#include "core/select.h"
 #include "frig/sfs.h"
 #include "image/image.h"
 #include "image/pull_push.h"
@@ -136,15 +137,15 @@ static double median_where(const float *v, size_t n, size_t stride, int flag_at,
  * BRIGHT_QUANTILE of the brightness (mean of r, g, b) of the texels seen at least that well, their
  * colour kept: dividing by the faint shading of a face's side painted a bright rim there
  * (docs/sfs.md, "The albedo texture's colours"). */
-static void cap_faint_texels(fr_sfs_albedo *a, size_t n, double wmed) {
+static int cap_faint_texels(fr_sfs_albedo *a, size_t n, double wmed) {
     float *lum = malloc(sizeof(float) * (n + 1));
+    if (!lum) return -1;
     size_t m = 0;
-    for (size_t t = 0; lum && t < n; t++)
+    for (size_t t = 0; t < n; t++)
         if (a->weight[t] > 0 && a->weight[t] >= wmed)
             lum[m++] = (a->albedo[3 * t] + a->albedo[3 * t + 1] + a->albedo[3 * t + 2]) / 3;
     if (m) {
-        qsort(lum, m, sizeof(float), cmp_float);
-        double cap = lum[(size_t)(BRIGHT_QUANTILE * (double)(m - 1))];
+        double cap = fr_select_float(lum, m, (size_t)(BRIGHT_QUANTILE * (double)(m - 1)));
         for (size_t t = 0; t < n; t++) {
             float *c = a->albedo + 3 * t;
             double l = (c[0] + c[1] + c[2]) / 3.0;
@@ -153,6 +154,23 @@ static void cap_faint_texels(fr_sfs_albedo *a, size_t n, double wmed) {
         }
     }
     free(lum);
+    return 0;
+}
+
+/* The skin's colour: per channel the median of the narrow face's texels seen at least as well as
+ * the median texel ('fallback', the photos' mean skin colour, when there are none). */
+static int skin_median(const fr_sfs_albedo *a, const uint8_t *core, size_t n, double wmed, const double fallback[3],
+                       double skin[3]) {
+    float *v = malloc(sizeof(float) * (n + 1));
+    if (!v) return -1;
+    for (int c = 0; c < 3; c++) {
+        size_t m = 0;
+        for (size_t t = 0; t < n; t++)
+            if (core[t] && a->weight[t] > 0 && a->weight[t] >= wmed) v[m++] = a->albedo[3 * t + c];
+        skin[c] = m ? fr_select_float(v, m, m / 2) : fallback[c];
+    }
+    free(v);
+    return 0;
 }
 
 /* Texels off the narrow face (the neck, the ears, the scalp) darker than SHADOW_SHARE of the
@@ -178,27 +196,23 @@ frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
     int T = uv.size;
     size_t n = (size_t)T * T;
     frig_image *img = s ? NULL : fr_image_new(T, T, 3);
-    float *rgb = s ? NULL : malloc(sizeof(float) * 4 * n);
+    float *rgb = s ? NULL : malloc(sizeof(float) * 3 * n);
     uint8_t *known = s ? NULL : calloc(n, 1), *core = s ? NULL : calloc(n, 1);
     if (!s && (!img || !rgb || !known || !core)) s = fr_nomem(ctx, "the albedo texture");
+    double skin[3];
     if (!s) {
         /* A texel counts as seen when its views weigh at least SEEN_SHARE of a typical seen
          * texel's (a texel only a grazing view or two showed is the outline's colour). */
         double wmed = median_where(a.weight, n, 1, -1, 0.0), wmin = SEEN_SHARE * wmed;
-        cap_faint_texels(&a, n, wmed);
         for (int k = 0; k < uv.count; k++) core[uv.texel[k]] = r->mesh.core[uv.tri[k]];
-        /* the skin: the narrow face's well seen texels' median colour (the photos' mean skin colour
-         * when none was seen) */
-        for (size_t t = 0; t < n; t++) {
-            for (int c = 0; c < 3; c++) rgb[4 * t + c] = a.albedo[3 * t + c];
-            rgb[4 * t + 3] = (float)(core[t] && a.weight[t] > 0 && a.weight[t] >= wmed);
-        }
-        double skin[3];
-        for (int c = 0; c < 3; c++) skin[c] = median_where(rgb + c, n, 4, 3 - c, r->mean_albedo[c]);
+        if (cap_faint_texels(&a, n, wmed) || skin_median(&a, core, n, wmed, r->mean_albedo, skin))
+            s = fr_nomem(ctx, "the albedo texture");
         for (size_t t = 0; t < n; t++) {
             for (int c = 0; c < 3; c++) rgb[3 * t + c] = a.albedo[3 * t + c];
             known[t] = a.weight[t] > 0 && a.weight[t] >= wmin;
         }
+    }
+    if (!s) {
         drop_shadowed(rgb, core, n, skin, known);
         /* texels no photo saw well: filled smoothly from the seen ones (the skin's colour when none was) */
         int filled = fr_pull_push(rgb, known, T, T);
