@@ -18,12 +18,11 @@
 #include <omp.h>
 
 #include "core/context.h"
-#include "mesh/laplacian.h"
+#include "mesh/harmonic_extension.h"
 #include "model/model.h"
 #include "retarget/collisions.h"
 #include "retarget/retarget.h"
 #include "rig/rig.h"
-#include "sparse/csr.h"
 
 #define EYE_SKIN 0.02     /* metres around an eyeball's centre whose skin carries it */
 #define TEETH_SKIN 0.005  /* metres beyond the teeth's radius whose skin carries them */
@@ -68,9 +67,9 @@ static frig_status extend_skin(frig_ctx *ctx, const frig_rig *rig, const float *
     int nv = h->nv, nt = rig->topo.triangle_count;
     const int32_t *tri = rig->topo.triangles;
     int32_t *st = malloc(sizeof(int32_t) * 3 * ((size_t)nt + 1));
-    int *idx = malloc(sizeof(int) * ((size_t)nv + 1)), nu = 0;
-    if (!st || !idx) {
-        free(st), free(idx);
+    uint8_t *skin = malloc((size_t)nv + 1);
+    if (!st || !skin) {
+        free(st), free(skin);
         return fr_nomem(ctx, "the whole head");
     }
     int ns = 0;
@@ -79,50 +78,10 @@ static frig_status extend_skin(frig_ctx *ctx, const frig_rig *rig, const float *
         for (int c = 0; c < 3; c++) ok &= h->part[tri[3 * t + c]] <= PART_SKIN;
         if (ok) memcpy(st + 3 * (size_t)ns++, tri + 3 * (size_t)t, sizeof(int32_t) * 3);
     }
-    /* Skin vertices that some skin triangle uses are unknowns; the rest keep no change. */
-    for (int v = 0; v < nv; v++) idx[v] = -1;
-    for (int t = 0; t < ns; t++)
-        for (int c = 0; c < 3; c++) {
-            int v = st[3 * t + c];
-            if (h->part[v] == PART_SKIN && idx[v] < 0) idx[v] = nu++;
-        }
-    fr_csr L;
-    memset(&L, 0, sizeof L);
-    fr_triplets t;
-    memset(&t, 0, sizeof t);
-    fr_cholesky *ch = NULL;
-    double *B = NULL;
-    int cols = 3 * h->F;
-    frig_status s = nu ? fr_cotan_laplacian(ctx, nv, old_neutral, st, ns, &L, NULL) : FRIG_OK;
-    if (!s && nu) s = fr_triplets_init(ctx, &t, nu, nu, (size_t)L.start[nv]);
-    if (!s && nu) {
-        B = calloc((size_t)nu * cols, sizeof(double));
-        if (!B) s = fr_nomem(ctx, "the whole head");
-    }
-    for (int v = 0; v < nv && !s && nu; v++) {
-        if (idx[v] < 0) continue;
-        for (int k = L.start[v]; k < L.start[v + 1] && !s; k++) {
-            int w = L.col[k];
-            if (idx[w] >= 0) {
-                if (idx[w] <= idx[v]) s = fr_triplets_add(ctx, &t, idx[v], idx[w], L.x[k] + (w == v ? 1e-9 : 0));
-            } else if (h->part[w] == PART_FACE) {
-                for (int f = 0; f < h->F; f++)
-                    for (int c = 0; c < 3; c++)
-                        B[(size_t)(3 * f + c) * nu + idx[v]] -= L.x[k] * h->change[(size_t)f * 3 * nv + 3 * (size_t)w + c];
-            }
-        }
-    }
-    if (!s && nu) s = fr_cholesky_create(ctx, &t, &ch);
-    if (!s && nu) s = fr_cholesky_solve(ctx, ch, cols, B, B);
-    for (int v = 0; v < nv && !s && nu; v++)
-        if (idx[v] >= 0)
-            for (int f = 0; f < h->F; f++)
-                for (int c = 0; c < 3; c++)
-                    h->change[(size_t)f * 3 * nv + 3 * (size_t)v + c] = (float)B[(size_t)(3 * f + c) * nu + idx[v]];
-    fr_cholesky_free(ch);
-    fr_triplets_free(&t);
-    fr_csr_free(&L);
-    free(B), free(st), free(idx);
+    /* skin vertices that some skin triangle uses are unknowns; the face holds its change */
+    for (int v = 0; v < nv; v++) skin[v] = h->part[v] == PART_SKIN;
+    frig_status s = fr_harmonic_extend(ctx, nv, old_neutral, st, ns, skin, h->F, 1e-9, NULL, h->change);
+    free(st), free(skin);
     return s;
 }
 

@@ -118,6 +118,8 @@ static frig_status face_texture(frig_ctx *ctx, const frig_rig *rig, int face, in
     return FRIG_OK;
 }
 
+static int has_texture(const fr_rig_look *look, int m) { return look->materials[m].texture >= 0; }
+
 static int add_texture(fr_rig_look *look, fr_texture *t) {
     if (look->texture_count >= FR_LOOK_MAX_TEXTURES) {
         fr_texture_free(t);
@@ -150,6 +152,14 @@ frig_status fr_rig_look_make(frig_ctx *ctx, const frig_rig *rig, fr_rig_look *ou
             set4(l->base, 1, 1, 1, 1);
             l->texture = add_texture(out, &tex);
             if (head >= 0) set4(out->materials[head].base, head_rgb[0], head_rgb[1], head_rgb[2], 1.0);
+        }
+        fr_texture head_tex;
+        if (!s && head >= 0 && size > 0 && has_texture(out, face) &&
+            !(s = fr_head_texture_paint(ctx, rig, face, head, &out->textures[out->materials[face].texture], size,
+                                        &head_tex))) {
+            fr_material_look *l = &out->materials[head];
+            l->texture = add_texture(out, &head_tex);
+            if (l->texture >= 0) set4(l->base, 1, 1, 1, 1);
         }
     }
     /* which materials get a painted texture, then paint them in parallel (each its own slot) */

@@ -46,7 +46,7 @@ typedef struct fr_material_look {
     int texture;        /* index into the look's textures, or -1 */
 } fr_material_look;
 
-#define FR_LOOK_MAX_TEXTURES 8
+#define FR_LOOK_MAX_TEXTURES 12
 
 typedef struct fr_rig_look {
     int material_count;
@@ -72,5 +72,20 @@ void fr_texture_sample(const fr_texture *t, double u, double v, double rgba[4]);
 /* The same in linear light: each texel decoded through 'decode' (fr_srgb_decode_table) before the
  * bilinear weights, as a GPU filters an sRGB texture; alpha as it is. */
 void fr_texture_sample_linear(const fr_texture *t, const float decode[256], double u, double v, double rgba[4]);
+
+/* ---- baking into UV space (texture_bake.c) ---- */
+/* out (size * size * dim floats) gets the attribute (dim floats per rig vertex) interpolated at
+ * each texel centre covered by the material's triangles, each triangle in the unit UV tile its
+ * lowest u lies in; covered[] (size * size) marks those texels 1, and every other texel gets the
+ * value of the nearest covered one (covered[] 2). */
+frig_status fr_texture_bake(frig_ctx *ctx, const fr_topology *t, int material, const float *attr, int dim, int size,
+                            float *out, uint8_t *covered);
+
+/* ---- the back of the head's texture (head_texture.c) ---- */
+/* A size x size base-colour texture (sRGB, opaque) for material 'head' (M_BackHead), continuing
+ * 'face_tex' (the texture of material 'face') from the vertices the two materials share over the
+ * rest of the head. */
+frig_status fr_head_texture_paint(frig_ctx *ctx, const frig_rig *rig, int face, int head, const fr_texture *face_tex,
+                                  int size, fr_texture *out);
 
 #endif
