@@ -39,7 +39,8 @@ const char cmd_run_usage[] =
     "Run it again after an interruption (Ctrl-C, a kill, a full disk) and it resumes: finished\n"
     "stages are kept and detect goes on from its last batch, giving the same bytes as a run that\n"
     "was never stopped. Run it again with other options (--set NAME=VALUE) and only the stages\n"
-    "they change run again. At least run.min_photos usable photos are needed (default 5).\n"
+    "they change run again. At least run.min_photos usable photos are needed (default 5), and\n"
+    "point clouds from at least run.min_cloud_share of the fitted ones (default 0.5).\n"
     "\n"
     "  -o OUT               the run's folder (created; a rerun reuses it)\n"
     "  --model FILE         the face model (default: $FRIG_MODEL or the user data folder)\n"
@@ -269,6 +270,9 @@ static int up_to_date(run_ctx *r, int i, const char *key) {
         res->cpu_seconds = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(rec, "cpu_seconds"));
         if (!isfinite(res->cpu_seconds)) res->cpu_seconds = 0; /* a record from before it was kept */
         res->peak_rss_mb = cJSON_GetNumberValue(cJSON_GetObjectItemCaseSensitive(rec, "peak_rss_mb"));
+        const char *stop = cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(rec, "stop"));
+        res->stopped = stop != NULL;
+        if (stop) snprintf(r->stop, sizeof r->stop, "%s", stop);
     }
     cJSON_Delete(rec);
     return ok;
@@ -289,6 +293,7 @@ static int write_record(run_ctx *r, int i, cJSON *opts) {
     cJSON_AddStringToObject(rec, "key", res->key);
     cJSON_AddStringToObject(rec, "digest", res->digest);
     cJSON_AddStringToObject(rec, "summary", res->summary);
+    if (res->stopped) cJSON_AddStringToObject(rec, "stop", r->stop); /* a kept stage stops the run again */
     cJSON_AddNumberToObject(rec, "seconds", res->seconds);
     cJSON_AddNumberToObject(rec, "cpu_seconds", res->cpu_seconds);
     cJSON_AddNumberToObject(rec, "peak_rss_mb", res->peak_rss_mb);
@@ -398,7 +403,7 @@ static int run_stage_at(run_ctx *r, int i, const char *prev_digest, const char *
         res->done = 1;
         if (!r->env->quiet) run_progress_stage(r, "up to date: %s", res->summary);
         cJSON_Delete(opts);
-        return CLI_OK;
+        return res->stopped ? RUN_STOP : CLI_OK;
     }
     char path[4200], dir[4200];
     if ((size_t)snprintf(dir, sizeof dir, "%s/stages/%s", r->out, st->name) >= sizeof dir) {
@@ -419,6 +424,7 @@ static int run_stage_at(run_ctx *r, int i, const char *prev_digest, const char *
     res->cpu_seconds = run_cpu_now() - cpu;
     res->peak_rss_mb = run_peak_mb();
     run_progress_done(r);
+    res->stopped = rc == RUN_STOP;
     if (rc == CLI_OK || rc == RUN_STOP) {
         int wr = write_record(r, i, opts);
         if (wr) rc = wr;

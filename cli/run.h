@@ -54,6 +54,7 @@ typedef struct run_source {
 typedef struct run_result {
     int done;          /* up to date now (ran or was up to date) */
     int ran;           /* ran in this invocation */
+    int stopped;       /* it stopped the run (r->stop says why; kept in its record) */
     double seconds;    /* when it last ran: wall time */
     double cpu_seconds; /* user + system CPU time of the process (all threads) during it */
     double peak_rss_mb;

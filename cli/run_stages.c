@@ -355,6 +355,22 @@ static int fit_run(run_ctx *r) {
  * retarget stage's outer loop recovers them again with each new rig and writes the final ones
  * to OUT/clouds/ and OUT/textures/albedo.png, so neither stage rewrites the other's files. */
 
+/* Most fitted photos without a cloud: their shading does not read as a face's (animals,
+ * cartoons, paintings, a set of strangers' photos each fitted alone) or they are too dark or
+ * blown out to shape anything: stop, and say what the workspace still holds. */
+static int run_check_clouds(run_ctx *r, const frig_photoset *set, size_t with, size_t judged) {
+    double need = frig_ctx_get_param(r->env->ctx, FRIG_PARAM_RUN_MIN_CLOUD_SHARE);
+    if (!judged || (double)with >= need * (double)judged) return CLI_OK;
+    char dropped[512];
+    run_dropped_sentence(set, dropped, sizeof dropped);
+    snprintf(r->stop, sizeof r->stop,
+             "%zu of %zu fitted photos kept a point cloud, under run.min_cloud_share (%g): most photos' shading does not "
+             "read as a face's (%s); add photos of the person, or --set run.min_cloud_share=0 for the fit's "
+             "model-space rig",
+             with, judged, need, dropped[0] ? dropped : "none dropped");
+    return RUN_STOP;
+}
+
 static int sfs_run(run_ctx *r) {
     cli_env *env = r->env;
     frig_photoset *set = NULL;
@@ -397,6 +413,7 @@ static int sfs_run(run_ctx *r) {
                         failed == 1 ? "" : "s", cli_sfs_solve_words(set, words, sizeof words));
         else
             run_summary(r, "no photo's shading could be read (%zu sfs_failed): the rig stays the fit's", failed);
+        rc = run_check_clouds(r, set, with, with + failed);
     }
     frig_image_free(albedo);
     frig_clouds_free(clouds);
@@ -533,17 +550,17 @@ static int report_run(run_ctx *r) { return run_write_report(r); }
 const run_stage run_stages[] = {
     {"frames", "frames sampled from the videos with ffmpeg", "run.video_frames", "the video files", "frames",
      "frames", 0, 0, has_videos, frames_options, frames_run},
-    {"detect", "faces and 68 landmarks per photo (section 4.2)", "detect. image.", "the photos, OpenCV's cascades, dlib's landmark model",
+    {"detect", "faces and 68 landmarks per photo (section 4.2)", "detect. image. run.min_photos", "the photos, OpenCV's cascades, dlib's landmark model",
      "stages/detect/report.json overlays/detect", "stages/detect/report.json", 1, 0, NULL, detect_options, detect_run},
-    {"identity", "who is in each photo: the set's dominant person, photos of others set aside", "identity.",
+    {"identity", "who is in each photo: the set's dominant person, photos of others set aside", "identity. run.min_photos",
      "report.json (the faces' descriptors)", "stages/identity/report.json", "stages/identity/report.json", 1, 0, NULL, NULL,
      identity_run},
-    {"filter", "failed detections dropped by robust PCA (Algorithm 1)", "filter. image.max_pixels", "report.json, the photos",
+    {"filter", "failed detections dropped by robust PCA (Algorithm 1)", "filter. image.max_pixels run.min_photos", "report.json, the photos",
      "stages/filter/report.json filter_contact_sheet.png", "stages/filter/report.json", 1, 0, NULL, NULL, filter_run},
-    {"fit", "camera, pose and expression per photo, one identity (sections 4.3-4.4)", "fit. image.",
+    {"fit", "camera, pose and expression per photo, one identity (sections 4.3-4.4)", "fit. image. run.min_photos",
      "report.json, the photos, the face model", "stages/fit/report.json stages/fit/rig.frigrig overlays/fit",
      "stages/fit/report.json stages/fit/rig.frigrig", 1, 1, NULL, fit_options, fit_run},
-    {"sfs", "a point cloud per photo from its shading, the subject's albedo (section 5.1)", "sfs. image.",
+    {"sfs", "a point cloud per photo from its shading, the subject's albedo (section 5.1)", "sfs. image. run.min_cloud_share",
      "report.json, the photos, the fit's rig, the face model (sfs.identity_modes)",
      "stages/sfs/report.json stages/sfs/clouds stages/sfs/albedo.png overlays/sfs",
      "stages/sfs/report.json stages/sfs/clouds stages/sfs/albedo.png", 1, 0, NULL, fit_options, sfs_run},

@@ -4,7 +4,7 @@
 # rewritten; another export option: only export and the report run; another fit option: fit and
 # what follows; another sfs option: sfs, retarget, export), a run killed (SIGKILL) at random
 # points and resumed until done giving byte-identical rig.glb, shapes/ and clouds/ to the clean run, a "full disk"
-# (a file-size limit) and a resume, too few photos (a sentence and exit 1), -o NAME.glb, inputs
+# (a file-size limit) and a resume, too few photos or clouds (a sentence and exit 1, again on a rerun), -o NAME.glb, inputs
 # left untouched, and the usage errors.
 set -u
 . "$FRIG_SOURCE_DIR/tests/scripts/model_fixture.sh"
@@ -106,7 +106,15 @@ check '[ ! -e "$tmp/fewout/rig.glb" ]'
 # Another build of frig (here its bytes and one byte more, which an ELF program ignores) does not
 # take the records of this one as up to date; the same build does.
 "$F" --threads 2 "${O[@]}" run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2> "$tmp/few_same.err"
-check 'grep -q "detect .*up to date" "$tmp/few_same.err"'
+check '[ $? = 1 ] && grep -q "detect .*up to date" "$tmp/few_same.err" && grep -q "stopped: 2 of 3 photos are usable after detect" "$tmp/few_same.err"'
+# Photos whose shading does not read (here: every cloud under sfs.min_points) stop the run after
+# sfs (run.min_cloud_share), and again when the same command runs again (the stop is in sfs's record).
+few2=(--set run.min_photos=2 --set sfs.min_points=1000000000)
+"$F" --threads 2 "${O[@]}" "${few2[@]}" run "$tmp/few" --model "$M" --no-report -o "$tmp/fewsfs" > /dev/null 2> "$tmp/fewsfs.err"
+check '[ $? = 1 ] && grep -q "stopped: 0 of 2 fitted photos kept a point cloud, under run.min_cloud_share (0.5)" "$tmp/fewsfs.err"'
+check '[ ! -e "$tmp/fewsfs/rig.glb" ]'
+"$F" --threads 2 "${O[@]}" "${few2[@]}" run "$tmp/few" --model "$M" --no-report -o "$tmp/fewsfs" > /dev/null 2> "$tmp/fewsfs2.err"
+check '[ $? = 1 ] && grep -q "sfs .*up to date" "$tmp/fewsfs2.err" && grep -q "stopped: 0 of 2 fitted" "$tmp/fewsfs2.err"'
 cp "$F" "$tmp/frig_other" && printf x >> "$tmp/frig_other"
 "$tmp/frig_other" --threads 2 "${O[@]}" run "$tmp/few" --model "$M" --no-report -o "$tmp/fewout" > /dev/null 2> "$tmp/few_other.err"
 check '[ $? = 1 ] && ! grep -q "up to date" "$tmp/few_other.err" && grep -q "stopped: 2 of 3 photos" "$tmp/few_other.err"'

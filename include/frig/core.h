@@ -218,6 +218,7 @@ typedef enum frig_param {
     /* frig run: the whole pipeline (docs/run.md) */
     FRIG_PARAM_RUN_VIDEO_FRAMES = 900,      /* frames sampled from each video, evenly spread (default 100) */
     FRIG_PARAM_RUN_MIN_PHOTOS = 901,        /* fewer usable photos stop the run (default 5) */
+    FRIG_PARAM_RUN_MIN_CLOUD_SHARE = 902,   /* a smaller share of fitted photos with a point cloud stops the run (0.5) */
 
     /* export: glTF and OBJ files of a rig */
     FRIG_PARAM_EXPORT_EYE_OVERLAYS = 950,   /* 1: ICT's translucent eye overlays alpha-blended; 0: left out (default 1) */

@@ -222,6 +222,9 @@ static const param_row rows[] = {
      "frames frig run samples from each video file, evenly spread over it (ffmpeg)"},
     {FRIG_PARAM_RUN_MIN_PHOTOS, "run.min_photos", 5, 1, 100000, 1,
      "frig run stops when fewer photos than this are usable (the paper's smallest set had 5)"},
+    {FRIG_PARAM_RUN_MIN_CLOUD_SHARE, "run.min_cloud_share", 0.5, 0, 1, 0,
+     "frig run stops after sfs when a smaller share of the fitted photos kept a point cloud (their shading does not "
+     "read as a face's: not a set of one person's photos); 0: never"},
 
     /* export (glTF and OBJ writers) */
     {FRIG_PARAM_EXPORT_EYE_OVERLAYS, "export.eye_overlays", 1, 0, 1, 1,
