@@ -86,6 +86,37 @@ int main(void) {
     if (sheet) {
         printf("contact sheet: %d x %d\n", frig_image_width(sheet), frig_image_height(sheet));
         CHECK(frig_image_width(sheet) == 8 * 48 + 9 * 4); /* 56 pictures: neutral + 55 targets, 7 rows */
+        /* mouthClose's picture is the rig at jawOpen 1 and mouthClose 1 (alone it pushes the lower
+         * lip through the upper one) */
+        int cell = -1, label_h = (frig_image_height(sheet) - 8 * 4) / 7 - 48;
+        for (int i = 0; i < frig_rig_target_count(r); i++)
+            if (!strcmp(frig_rig_target_name(r, i), "mouthClose")) cell = i + 1;
+        double *wc = calloc((size_t)frig_rig_shape_count(r), sizeof(double));
+        frig_image *both = NULL, *alone = NULL;
+        int kc = frig_rig_shape_find(r, "mouthClose"), kj = frig_rig_shape_find(r, "jawOpen");
+        CHECK(cell > 0 && kc >= 0 && kj >= 0 && wc);
+        if (cell > 0 && kc >= 0 && kj >= 0 && wc) {
+            wc[kc] = 1.0;
+            CHECK(frig_rig_render(ctx, r, wc, 0, 0, FRIG_FRAME_FACE, 48, 48, &alone) == FRIG_OK);
+            wc[kj] = 1.0;
+            CHECK(frig_rig_render(ctx, r, wc, 0, 0, FRIG_FRAME_FACE, 48, 48, &both) == FRIG_OK);
+        }
+        if (both && alone) {
+            int x0 = 4 + (cell % 8) * (48 + 4), y0 = 4 + (cell / 8) * (48 + label_h + 4);
+            double d_both = 0, d_alone = 0;
+            for (int y = 0; y < 48; y++)
+                for (int x = 0; x < 48; x++)
+                    for (int c = 0; c < 3; c++) {
+                        int v = px(sheet, x0 + x, y0 + y)[c];
+                        d_both += abs(v - px(both, x, y)[c]), d_alone += abs(v - px(alone, x, y)[c]);
+                    }
+            d_both /= 48 * 48 * 3, d_alone /= 48 * 48 * 3;
+            printf("mouthClose's cell against the rig at jawOpen + mouthClose: %.3f levels, at mouthClose alone %.3f\n",
+                   d_both, d_alone);
+            CHECK(d_both < 0.5 && d_alone > 2.0);
+        }
+        frig_image_free(both), frig_image_free(alone);
+        free(wc);
     }
     /* Refusals. */
     frig_image *none = NULL;

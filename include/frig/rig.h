@@ -90,7 +90,8 @@ FRIG_API frig_status frig_rig_render(frig_ctx *ctx, const frig_rig *rig, const d
                                      double pitch_deg, int framing, int width, int height, frig_image **out);
 /* A PNG contact sheet: the neutral, then every exported blendshape at weight 1 in the
  * exporters' order (frig_rig_target_name), each a cell x cell picture of the face with its
- * name under it, 'columns' to a row. Parallel over the pictures. */
+ * name under it, 'columns' to a row; mouthClose with jawOpen (it closes an open jaw's lips, as
+ * in ARKit). Parallel over the pictures. */
 FRIG_API frig_status frig_rig_save_contact_sheet(frig_ctx *ctx, const frig_rig *rig, int cell, int columns,
                                                  const char *path);
 

@@ -301,7 +301,9 @@ static void draw_label(frig_image *sheet, int x0, int y0, int cell, const char *
     char line[2][96];
     int w, h, n = (int)strlen(name), split = -1;
     fr_text_size(name, LABEL_SCALE, &w, &h);
-    if (w > cell)
+    const char *plus = strchr(name, '+');
+    if (plus) split = (int)(plus - name); /* two shapes together: one per line */
+    else if (w > cell)
         for (int i = 1; i < n; i++)
             if (name[i] >= 'A' && name[i] <= 'Z' && (split < 0 || abs(2 * i - n) < abs(2 * split - n))) split = i;
     snprintf(line[0], sizeof line[0], "%.*s", split > 0 ? split : n, name);
@@ -336,6 +338,13 @@ frig_status frig_rig_save_contact_sheet(frig_ctx *ctx, const frig_rig *rig, int 
     if (!sheet || !st) s = fr_nomem(ctx, "a contact sheet");
     if (!s) memset(sheet->pixels, 28, sheet->stride * (size_t)sheet_h);
     size_t n3 = 3 * (size_t)rig->topo.vertex_count;
+    /* mouthClose closes the lips of an open jaw (ARKit's and ICT's convention): alone it pushes the
+     * lower lip up through the upper one, so its picture adds jawOpen */
+    int jaw = -1, close = -1;
+    for (int k = 0; k < shapes.count; k++) {
+        if (!strcmp(shapes.names[k], "jawOpen")) jaw = k;
+        if (!strcmp(shapes.names[k], "mouthClose")) close = k;
+    }
     atomic_size_t done;
     atomic_init(&done, 0);
 #pragma omp parallel for schedule(dynamic) num_threads(fr_threads(ctx))
@@ -348,14 +357,16 @@ frig_status frig_rig_save_contact_sheet(frig_ctx *ctx, const frig_rig *rig, int 
         st[i] = xyz ? FRIG_OK : fr_nomem(&child, "a contact sheet cell");
         if (!st[i]) {
             const float *d = i ? shapes.deltas + n3 * (size_t)(i - 1) : NULL;
-            for (size_t k = 0; k < n3; k++) xyz[k] = d ? rig->neutral[k] + d[k] : rig->neutral[k];
+            const float *with = jaw >= 0 && i - 1 == close ? shapes.deltas + n3 * (size_t)jaw : NULL;
+            for (size_t k = 0; k < n3; k++) xyz[k] = (d ? rig->neutral[k] + d[k] : rig->neutral[k]) + (with ? with[k] : 0);
             st[i] = render_xyz(&child, rig, &look, xyz, 0.0, 0.0, FRIG_FRAME_FACE, cell, cell, &img);
         }
         if (!st[i]) {
             int col = i % columns, row = i / columns;
             int x0 = gap + col * (cell + gap), y0 = gap + row * (cell + label_h + gap);
             paste(sheet, img, x0, y0);
-            draw_label(sheet, x0, y0 + cell + 4, cell, i ? shapes.names[i - 1] : "neutral");
+            draw_label(sheet, x0, y0 + cell + 4, cell,
+                       !i ? "neutral" : jaw >= 0 && i - 1 == close ? "mouthClose+jawOpen" : shapes.names[i - 1]);
         } else {
             fr_error(ctx, st[i], "%s", frig_ctx_errmsg(&child));
         }
