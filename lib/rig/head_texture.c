@@ -74,13 +74,12 @@ frig_status fr_head_texture_paint(frig_ctx *ctx, const frig_rig *rig, int face, 
                         ? fr_nomem(ctx, "the head's texture")
                         : FRIG_OK;
     float mean[3];
+    int seam = 0;
     if (!s) {
         mark_material(t, head, on_head);
-        if (!seam_colours(t, face, on_head, face_tex, rgb, corners, mean))
-            s = fr_error(ctx, FRIG_ERR_STATE, "materials %s and %s share no vertex: no seam to continue the face from",
-                         t->material_names[face], t->material_names[head]);
+        seam = seam_colours(t, face, on_head, face_tex, rgb, corners, mean);
     }
-    if (!s) {
+    if (!s && seam) {
         for (int i = 0, k = 0; i < t->triangle_count; i++)
             if (t->triangle_materials[i] == head) memcpy(tris + 3 * (size_t)k++, t->triangles + 3 * (size_t)i, sizeof(int32_t) * 3);
         for (size_t v = 0; v < nv; v++) {
@@ -89,20 +88,20 @@ frig_status fr_head_texture_paint(frig_ctx *ctx, const frig_rig *rig, int face, 
         }
         s = fr_harmonic_extend(ctx, (int)nv, rig->neutral, tris, nt, free_vertex, 1, MEAN_PULL, mean, attr);
     }
-    for (size_t i = 0; !s && i < 3 * nv; i++) /* cotangent weights may overshoot a little */
+    for (size_t i = 0; !s && seam && i < 3 * nv; i++) /* cotangent weights may overshoot a little */
         attr[i] = attr[i] < 0 ? 0.0f : attr[i] > 1 ? 1.0f : attr[i];
-    if (!s) s = fr_texture_bake(ctx, t, head, attr, 3, size, baked, covered);
-    for (size_t i = 0; !s && i < 3 * n; i++) {
+    if (!s && seam) s = fr_texture_bake(ctx, t, head, attr, 3, size, baked, covered);
+    for (size_t i = 0; !s && seam && i < 3 * n; i++) {
         double c = fr_linear_to_srgb(baked[i] < 0 ? 0 : baked[i] > 1 ? 1 : baked[i]);
         out->pixels[i] = (uint8_t)floor(255.0 * c + 0.5);
     }
-    if (!s) {
+    if (!s && seam) {
         out->width = out->height = size;
         out->channels = 3;
         snprintf(out->file, sizeof out->file, "frig_head.png");
         s = fr_png_encode_pixels(ctx, size, size, 3, 3 * (size_t)size, out->pixels, &out->png, &out->png_size);
     }
     free(on_head), free(covered), free(free_vertex), free(corners), free(rgb), free(tris), free(attr), free(baked);
-    if (s) fr_texture_free(out);
+    if (s || !seam) fr_texture_free(out); /* no seam: no texture, the head keeps its flat colour */
     return s;
 }

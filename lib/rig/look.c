@@ -158,7 +158,7 @@ frig_status fr_rig_look_make(frig_ctx *ctx, const frig_rig *rig, fr_rig_look *ou
             !(s = fr_head_texture_paint(ctx, rig, face, head, &out->textures[out->materials[face].texture], size,
                                         &head_tex))) {
             fr_material_look *l = &out->materials[head];
-            l->texture = add_texture(out, &head_tex);
+            l->texture = head_tex.png ? add_texture(out, &head_tex) : -1;
             if (l->texture >= 0) set4(l->base, 1, 1, 1, 1);
         }
     }

@@ -84,7 +84,7 @@ frig_status fr_texture_bake(frig_ctx *ctx, const fr_topology *t, int material, c
 /* ---- the back of the head's texture (head_texture.c) ---- */
 /* A size x size base-colour texture (sRGB, opaque) for material 'head' (M_BackHead), continuing
  * 'face_tex' (the texture of material 'face') from the vertices the two materials share over the
- * rest of the head. */
+ * rest of the head. When they share none, FRIG_OK and an empty 'out' (no pixels): no texture. */
 frig_status fr_head_texture_paint(frig_ctx *ctx, const frig_rig *rig, int face, int head, const fr_texture *face_tex,
                                   int size, fr_texture *out);
 
