@@ -357,7 +357,7 @@ static int fit_run(run_ctx *r) {
 
 /* Most fitted photos without a cloud: their shading does not read as a face's (animals,
  * cartoons, paintings, a set of strangers' photos each fitted alone) or they are too dark or
- * blown out to shape anything: stop, and say what the workspace still holds. */
+ * blown out to shape anything: stop, saying how many and why (the report lists each photo's fate). */
 static int run_check_clouds(run_ctx *r, const frig_photoset *set, size_t with, size_t judged) {
     double need = frig_ctx_get_param(r->env->ctx, FRIG_PARAM_RUN_MIN_CLOUD_SHARE);
     if (!judged || (double)with >= need * (double)judged) return CLI_OK;
