@@ -282,7 +282,11 @@ static void section_summary(page *p, run_ctx *r, const frig_photoset *set, int h
     if (counts[FRIG_PHOTO_OK] > used)
         put(p, "<div class=\"card\"><div class=\"big\">%zu</div>usable, not fitted</div>", counts[FRIG_PHOTO_OK] - used);
     put(p, "</section>\n");
-    if (have_rig) {
+    if (have_rig && r->stop[0]) {
+        put(p, "<p class=\"files\">No rig was exported: the run stopped before the export stage (the pictures below show "
+               "the last rig a stage made, not an exported one). Every photo's fate: <a href=\"report.json\">report.json</a>."
+               "</p>\n");
+    } else if (have_rig) {
         char rel[4200], shapes[4200];
         relative(r->out, r->rig.glb, rel, sizeof rel);
         relative(r->out, r->rig.shapes, shapes, sizeof shapes);
@@ -298,12 +302,14 @@ static void section_summary(page *p, run_ctx *r, const frig_photoset *set, int h
     }
 }
 
-static void section_rig(page *p, int have_rig) {
+static void section_rig(page *p, int have_rig, int stopped) {
     put(p, "<h2 id=\"rig\">The rig</h2>\n");
     if (!have_rig) {
         put(p, "<p class=\"muted\">No rig yet: the run stopped before the fit.</p>\n");
         return;
     }
+    if (stopped)
+        put(p, "<p class=\"muted\">Not exported (the run stopped): the last rig a stage made, shown for what it is.</p>\n");
     put(p, "<p class=\"muted\">Rendered by libfrig's own rasterizer with the materials the glTF carries: painted "
            "sclera, iris and lashes, ICT's eye overlays blended (export.eye_overlays), the face texture when the sfs stage "
            "wrote one, else clay.</p>\n<div class=\"hero\">");
@@ -735,7 +741,7 @@ int run_write_report(run_ctx *r) {
             "href=\"#coverage\">expressions</a><a href=\"#stages\">time and memory</a><a href=\"#photos\">photos</a></nav>\n",
         frig_version_string());
     section_summary(&p, r, set, have_rig);
-    section_rig(&p, have_rig);
+    section_rig(&p, have_rig, r->stop[0] != 0);
     section_shape(&p, r, set);
     section_errors(&p, r, set);
     section_coverage(&p, set);

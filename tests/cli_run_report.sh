@@ -78,4 +78,11 @@ if command -v script > /dev/null; then
   check 'grep -q "\[9/9 report\] contact_sheet *\[[#.]*\] [0-9]*/56  0:[0-9][0-9]" "$tmp/tty"'
   check 'grep -q "identity .*up to date" "$tmp/tty" && ! grep -q "export .*up to date" "$tmp/tty"'
 fi
+# A run that stops (here at sfs: no cloud kept) links no rig.glb, though an earlier run left one in
+# the folder, and says why.
+"$F" --threads 2 "${O[@]}" --set run.video_frames=8 --set sfs.min_points=1000000000 run "$photos" "$tmp/clip.mkv" \
+  --model "$M" -o "$tmp/out" > /dev/null 2> "$tmp/stop.err"
+check '[ $? = 1 ] && grep -q "stopped: 0 of" "$tmp/stop.err" && [ -f "$tmp/out/rig.glb" ]'
+check 'grep -q "No rig was exported: the run stopped before the export stage" "$tmp/out/report.html"'
+check '! grep -q "The rig: <a href=\"rig.glb\"" "$tmp/out/report.html" && grep -q "The run stopped:</b> 0 of" "$tmp/out/report.html"'
 exit $fail
