@@ -5,7 +5,8 @@
  * the share of vertices over 0.5 (a colour that is not the skin's: the outline's tints).
  * With WORKSPACE "-": the true albedo itself baked into the texture's layout (what the measure
  * gives a perfect texture: its floor, from the texels' sRGB steps and the bake's interpolation).
- * Usage: albedo_eval SUBJECT_DIR WORKSPACE|- MODEL [--set NAME=VALUE ...] */
+ * --write PNG saves the texture it scored (with "-": the true albedo baked, to compare by eye).
+ * Usage: albedo_eval SUBJECT_DIR WORKSPACE|- MODEL [--set NAME=VALUE ...] [--write PNG] */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -63,12 +64,14 @@ static frig_image *bake_truth(frig_ctx *ctx, const frig_synth_subject *subj, int
 
 int main(int argc, char **argv) {
     if (argc < 4) {
-        fprintf(stderr, "usage: albedo_eval SUBJECT_DIR WORKSPACE|- MODEL [--set NAME=VALUE ...]\n");
+        fprintf(stderr, "usage: albedo_eval SUBJECT_DIR WORKSPACE|- MODEL [--set NAME=VALUE ...] [--write PNG]\n");
         return 2;
     }
     frig_ctx *ctx = frig_ctx_create();
+    const char *write = NULL;
     for (int i = 4; i + 1 < argc; i += 2)
-        if (strcmp(argv[i], "--set") || bench_set_param(ctx, argv[i + 1])) {
+        if (!strcmp(argv[i], "--write")) write = argv[i + 1];
+        else if (strcmp(argv[i], "--set") || bench_set_param(ctx, argv[i + 1])) {
             fprintf(stderr, "albedo_eval: bad option %s %s\n", argv[i], argv[i + 1]);
             return 2;
         }
@@ -99,6 +102,10 @@ int main(int argc, char **argv) {
         fprintf(stderr, "albedo_eval: the subject made from seed %016llx is not %s (neutral %.3g m off): "
                         "give the --set options it was made with\n",
                 (unsigned long long)seed, argv[1], worst);
+        return 1;
+    }
+    if (write && frig_image_save_png(ctx, img, write)) {
+        fprintf(stderr, "albedo_eval: %s\n", frig_ctx_errmsg(ctx));
         return 1;
     }
     fr_albedo_error e;
