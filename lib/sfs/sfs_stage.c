@@ -109,27 +109,16 @@ static frig_status finish_one(frig_ctx *ctx, size_t k, void *user) {
     return s;
 }
 
-static int cmp_float(const void *a, const void *b) {
-    float x = *(const float *)a, y = *(const float *)b;
-    return (x > y) - (x < y);
-}
-
-/* The median of the values v[i * stride], i < n, that count: the positive ones when flag_at < 0,
- * else those whose float flag_at places further on is 1 (a seen texel's mark); 'none' when none do. */
-static double median_where(const float *v, size_t n, size_t stride, int flag_at, double none) {
+/* The median of the positive values of v (0 when none is) into *med; -1 when memory ran out. */
+static int median_positive(const float *v, size_t n, double *med) {
     float *p = malloc(sizeof(float) * (n + 1));
+    if (!p) return -1;
     size_t m = 0;
-    for (size_t i = 0; p && i < n; i++) {
-        const float *e = v + i * stride;
-        if (flag_at < 0 ? e[0] > 0 : e[flag_at] == 1) p[m++] = e[0];
-    }
-    double med = none;
-    if (m) {
-        qsort(p, m, sizeof(float), cmp_float);
-        med = p[m / 2];
-    }
+    for (size_t i = 0; i < n; i++)
+        if (v[i] > 0) p[m++] = v[i];
+    *med = m ? fr_select_float(p, m, m / 2) : 0.0;
     free(p);
-    return med;
+    return 0;
 }
 
 /* Texels that their views weigh less than a typical texel (the median seen one: only grazing
@@ -203,10 +192,12 @@ frig_status fr_sfs_run_albedo(frig_ctx *ctx, fr_sfs_run *r, frig_image **out) {
     if (!s) {
         /* A texel counts as seen when its views weigh at least SEEN_SHARE of a typical seen
          * texel's (a texel only a grazing view or two showed is the outline's colour). */
-        double wmed = median_where(a.weight, n, 1, -1, 0.0), wmin = SEEN_SHARE * wmed;
+        double wmed = 0;
         for (int k = 0; k < uv.count; k++) core[uv.texel[k]] = r->mesh.core[uv.tri[k]];
-        if (cap_faint_texels(&a, n, wmed) || skin_median(&a, core, n, wmed, r->mean_albedo, skin))
+        if (median_positive(a.weight, n, &wmed) || cap_faint_texels(&a, n, wmed) ||
+            skin_median(&a, core, n, wmed, r->mean_albedo, skin))
             s = fr_nomem(ctx, "the albedo texture");
+        double wmin = SEEN_SHARE * wmed;
         for (size_t t = 0; t < n; t++) {
             for (int c = 0; c < 3; c++) rgb[3 * t + c] = a.albedo[3 * t + c];
             known[t] = a.weight[t] > 0 && a.weight[t] >= wmin;
