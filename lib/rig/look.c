@@ -64,11 +64,8 @@ static void default_look(const fr_topology *t, int m, fr_material_look *l) {
     }
 }
 
-/* The face texture, decoded, and the mean linear colour of its texels where the face meets
- * the back of the head (vertices both materials use): the head's flat colour, so the scalp
- * continues the skin. */
-static frig_status face_texture(frig_ctx *ctx, const frig_rig *rig, int face, int head, fr_texture *tex,
-                                float head_rgb[3]) {
+/* The face texture, decoded. */
+static frig_status face_texture(frig_ctx *ctx, const frig_rig *rig, fr_texture *tex) {
     frig_image *img = NULL;
     frig_status s = fr_png_decode(ctx, "the face texture", rig->face_png, rig->face_png_size, 0, &img);
     if (s) return s;
@@ -91,30 +88,6 @@ static frig_status face_texture(frig_ctx *ctx, const frig_rig *rig, int face, in
     memcpy(tex->png, rig->face_png, rig->face_png_size);
     tex->png_size = rig->face_png_size;
     snprintf(tex->file, sizeof tex->file, "frig_face.png");
-    const fr_topology *t = &rig->topo;
-    uint8_t *on_head = calloc((size_t)t->vertex_count, 1);
-    if (!on_head) {
-        fr_texture_free(tex);
-        return fr_nomem(ctx, "the face texture");
-    }
-    for (int i = 0; i < t->triangle_count; i++)
-        if (t->triangle_materials[i] == head)
-            for (int c = 0; c < 3; c++) on_head[t->triangles[3 * i + c]] = 1;
-    double sum[3] = {0, 0, 0};
-    long n = 0;
-    for (int i = 0; i < t->triangle_count; i++) {
-        if (t->triangle_materials[i] != face) continue;
-        for (int c = 0; c < 3; c++) {
-            if (!on_head[t->triangles[3 * i + c]]) continue;
-            const float *uv = t->uvs + 2 * t->triangle_uvs[3 * i + c];
-            double rgba[4];
-            fr_texture_sample(tex, uv[0], uv[1], rgba);
-            for (int k = 0; k < 3; k++) sum[k] += fr_srgb_to_linear(rgba[k]);
-            n++;
-        }
-    }
-    free(on_head);
-    for (int k = 0; k < 3; k++) head_rgb[k] = n ? (float)(sum[k] / n) : (float)(k == 0 ? CLAY_R : k == 1 ? CLAY_G : CLAY_B);
     return FRIG_OK;
 }
 
@@ -145,19 +118,21 @@ frig_status fr_rig_look_make(frig_ctx *ctx, const frig_rig *rig, fr_rig_look *ou
     frig_status s = FRIG_OK;
     if (rig->face_png && face >= 0) {
         fr_texture tex;
-        float head_rgb[3] = {CLAY_R, CLAY_G, CLAY_B};
-        s = face_texture(ctx, rig, face, head, &tex, head_rgb);
+        s = face_texture(ctx, rig, &tex);
         if (!s) {
             fr_material_look *l = &out->materials[face];
             set4(l->base, 1, 1, 1, 1);
             l->texture = add_texture(out, &tex);
-            if (head >= 0) set4(out->materials[head].base, head_rgb[0], head_rgb[1], head_rgb[2], 1.0);
         }
+        /* the back of the head continues the face: its texture, or (export.texture_size 0) the
+         * seam's mean colour */
+        float head_rgb[3] = {CLAY_R, CLAY_G, CLAY_B};
         fr_texture head_tex;
-        if (!s && head >= 0 && size > 0 && has_texture(out, face) &&
-            !(s = fr_head_texture_paint(ctx, rig, face, head, &out->textures[out->materials[face].texture], size,
-                                        &head_tex))) {
+        if (!s && head >= 0 && has_texture(out, face) &&
+            !(s = fr_head_look(ctx, rig, face, head, &out->textures[out->materials[face].texture], size, head_rgb,
+                               &head_tex))) {
             fr_material_look *l = &out->materials[head];
+            set4(l->base, head_rgb[0], head_rgb[1], head_rgb[2], 1.0);
             l->texture = head_tex.png ? add_texture(out, &head_tex) : -1;
             if (l->texture >= 0) set4(l->base, 1, 1, 1, 1);
         }

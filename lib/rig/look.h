@@ -81,11 +81,13 @@ void fr_texture_sample_linear(const fr_texture *t, const float decode[256], doub
 frig_status fr_texture_bake(frig_ctx *ctx, const fr_topology *t, int material, const float *attr, int dim, int size,
                             float *out, uint8_t *covered);
 
-/* ---- the back of the head's texture (head_texture.c) ---- */
-/* A size x size base-colour texture (sRGB, opaque) for material 'head' (M_BackHead), continuing
- * 'face_tex' (the texture of material 'face') from the vertices the two materials share over the
- * rest of the head. When they share none, FRIG_OK and an empty 'out' (no pixels): no texture. */
-frig_status fr_head_texture_paint(frig_ctx *ctx, const frig_rig *rig, int face, int head, const fr_texture *face_tex,
-                                  int size, fr_texture *out);
+/* ---- the back of the head's look (head_texture.c) ---- */
+/* How material 'head' (M_BackHead) continues 'face_tex' (the texture of material 'face') from the
+ * vertices the two materials share: flat (linear) gets the face texture's mean colour over the
+ * face corners at those vertices, and 'out' a size x size base-colour texture (sRGB, opaque)
+ * spreading their colours over the rest of the head. Where they share no vertex flat is left as it
+ * is; then, and when size is 0, 'out' stays empty (no pixels). */
+frig_status fr_head_look(frig_ctx *ctx, const frig_rig *rig, int face, int head, const fr_texture *face_tex, int size,
+                         float flat[3], fr_texture *out);
 
 #endif
