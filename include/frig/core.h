@@ -140,6 +140,7 @@ typedef enum frig_param {
     FRIG_PARAM_FILTER_ROBUST_STATS = 306,   /* 1: mu, sigma = median, 1.4826 MAD; 0: mean, std (default 1) */
     FRIG_PARAM_FILTER_SCORE_ALL = 307,      /* 1: each round judges every photo against all photos' spread (default 0) */
     FRIG_PARAM_FILTER_MIRROR = 308,         /* 1: the shape model also learns the inliers' mirror images (default 1) */
+    FRIG_PARAM_FILTER_PEEL_MIN_FACES = 309, /* rounds after the first only with at least this many inliers (default 12) */
 
     /* fit (sections 4.3-4.4, Algorithm 2) */
     FRIG_PARAM_FIT_W_EXP = 400,             /* expression prior (default 10) */

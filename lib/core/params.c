@@ -76,6 +76,9 @@ static const param_row rows[] = {
      "the inliers alone, as in the paper"},
     {FRIG_PARAM_FILTER_ROBUST_STATS, "filter.robust_stats", 1, 0, 1, 1,
      "1: mu and sigma are the median and 1.4826 x MAD of the errors; 0: their mean and standard deviation"},
+    {FRIG_PARAM_FILTER_PEEL_MIN_FACES, "filter.peel_min_faces", 12, 3, 100000, 1,
+     "rounds after the first run only while at least this many photos are inliers: a model rebuilt from fewer "
+     "explains too little, and its later rounds drop mostly good photos (3: Algorithm 1 as printed)"},
 
     {FRIG_PARAM_FIT_W_EXP, "fit.w_exp", 10, 0, 1e6, 0, "weight of the expression prior (eq. 4.8 w2)"},
     {FRIG_PARAM_FIT_W_SPARSE, "fit.w_sparse", 100, 0, 1e6, 0, "weight of the L1 expression sparsity (eq. 4.8 w3)"},

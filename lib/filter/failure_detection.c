@@ -21,6 +21,7 @@ void fr_filter_options_from_ctx(const frig_ctx *ctx, fr_filter_options *o) {
     o->score_all = fr_param_int(ctx, FRIG_PARAM_FILTER_SCORE_ALL);
     o->mirror = fr_param_int(ctx, FRIG_PARAM_FILTER_MIRROR);
     o->statistic = fr_param_int(ctx, FRIG_PARAM_FILTER_ROBUST_STATS) ? FR_FILTER_MEDIAN_MAD : FR_FILTER_MEAN_STD;
+    o->peel_min = fr_param_int(ctx, FRIG_PARAM_FILTER_PEEL_MIN_FACES);
     fr_rpca_default_options(&o->rpca);
     /* The errors move by less than the tolerance (measured: 8e-6 at 1e-5, against errors of 0.3 and
      * thresholds that differ at the 1e-2 level); 1e-7 would cost 45% more time for nothing. */
@@ -325,7 +326,10 @@ frig_status fr_failure_detection(frig_ctx *ctx, int count, int texels, const dou
     fr_filter_model m;
     memset(&m, 0, sizeof m);
     int settled = 0; /* the last round changed nothing: m is the model of the final inliers */
-    while (round < opt->max_rounds && n >= 3) {
+    /* Later rounds judge the inliers by a model of fewer photos. Below a dozen that model explains
+     * too little of a set's ordinary variety (1-3 components), and its rounds dropped 3-4 good
+     * photos for each failure they found (docs/filter.md, "Small sets"). */
+    while (round < opt->max_rounds && n >= (round == 0 ? 3 : (opt->peel_min > 3 ? opt->peel_min : 3))) {
         round++;
         int ranks[2];
         if ((st = build_models(ctx, n, idx, texels, textures, shapes, opt, &m, ranks)) != FRIG_OK) break;

@@ -37,6 +37,7 @@ typedef struct fr_filter_options {
     fr_filter_statistic statistic;
     int score_all;     /* filter.score_all */
     int mirror;        /* filter.mirror */
+    int peel_min;      /* filter.peel_min_faces: rounds after the first need this many inliers */
     fr_rpca_options rpca;
 } fr_filter_options;
 
