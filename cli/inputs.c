@@ -29,6 +29,23 @@ int cli_is_video_name(const char *name) {
     return has_ext(name, exts);
 }
 
+/* The absolute path of a file, or of its folder and its name when the file itself cannot be
+ * resolved (a broken link keeps its own name); the path as given when neither can. */
+static char *absolute(const char *path) {
+    char abs[PATH_MAX];
+    if (realpath(path, abs)) return strdup(abs);
+    const char *slash = strrchr(path, '/');
+    char *dir = slash ? strndup(path, (size_t)(slash - path + 1)) : strdup(".");
+    char *out = NULL;
+    if (dir && realpath(dir, abs) && strlen(abs) + strlen(slash ? slash + 1 : path) + 2 <= sizeof abs) {
+        size_t len = strlen(abs);
+        snprintf(abs + len, sizeof abs - len, "/%s", slash ? slash + 1 : path);
+        out = strdup(abs);
+    }
+    free(dir);
+    return out ? out : strdup(path);
+}
+
 static int push(cli_inputs *in, const char *path, int video) {
     if (in->count == in->cap) {
         size_t cap = in->cap ? 2 * in->cap : 64;
@@ -37,8 +54,7 @@ static int push(cli_inputs *in, const char *path, int video) {
         in->items = n;
         in->cap = cap;
     }
-    char abs[PATH_MAX];
-    char *p = strdup(realpath(path, abs) ? abs : path);
+    char *p = absolute(path);
     if (!p) return -1;
     in->items[in->count].path = p;
     in->items[in->count].video = video;
@@ -48,7 +64,9 @@ static int push(cli_inputs *in, const char *path, int video) {
 
 static int by_name(const void *a, const void *b) { return strcmp(*(char *const *)a, *(char *const *)b); }
 
-/* The folder's regular files for which want() holds, sorted by name. */
+/* The folder's regular files for which want() holds, sorted by name, and the names for which it
+ * holds that cannot be opened (a broken link: the detect stage reports it as unreadable rather
+ * than the photo vanishing from the report). */
 static int list_folder(const char *dir, int (*want)(const char *), char ***out, size_t *count) {
     DIR *d = opendir(dir);
     if (!d) return -1;
@@ -72,7 +90,7 @@ static int list_folder(const char *dir, int (*want)(const char *), char ***out, 
         }
         snprintf(full, len, "%s/%s", dir, e->d_name);
         struct stat st;
-        if (stat(full, &st) == 0 && S_ISREG(st.st_mode)) names[n++] = full;
+        if (stat(full, &st) != 0 || S_ISREG(st.st_mode)) names[n++] = full;
         else free(full);
     }
     closedir(d);
@@ -100,9 +118,11 @@ int cli_inputs_add(const char *cmd, cli_inputs *in, const char *arg, int allow_v
         r = list_folder(arg, cli_is_video_name, &names, &n);
         video = 1;
     }
-    int rc = r == -1 ? cli_fail_msg(cmd, "%s: cannot read the folder (%s)", arg, strerror(errno))
-             : r ? cli_fail_msg(cmd, "out of memory listing %s", arg)
-                 : CLI_OK;
+    int rc = r == -1  ? cli_fail_msg(cmd, "%s: cannot read the folder (%s)", arg, strerror(errno))
+             : r      ? cli_fail_msg(cmd, "out of memory listing %s", arg)
+             : n == 0 ? cli_fail_msg(cmd, "%s: the folder has no photos (.jpg, .jpeg, .png)%s", arg,
+                                     allow_videos ? " or videos (.mp4, .mov, .mkv, .webm, .m4v, .avi)" : "")
+                      : CLI_OK;
     for (size_t i = 0; i < n; i++) {
         if (rc == CLI_OK && push(in, names[i], video)) rc = cli_fail_msg(cmd, "out of memory");
         free(names[i]);

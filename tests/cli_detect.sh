@@ -30,6 +30,7 @@ cp "$shared/photos/outliers/nonface_rocket_skimage.jpg" "$in/f_rocket.jpg"
 cp "$shared/photos/landmarks_300w_lfpw/lfpw_trainset_image_0001.png" "$in/g_user.png"
 cp "$shared/photos/landmarks_300w_lfpw/lfpw_trainset_image_0001.pts" "$in/g_user.pts"
 echo "not a photo" > "$in/notes.txt"
+ln -s "$tmp/nowhere.jpg" "$in/i_gone.jpg"   # a broken link is reported, not skipped
 mkdir "$in/sub" && cp "$in/a_blair.jpg" "$in/sub/"   # folders are not searched recursively
 # A tiny face: an LFW photo shrunk from 150 to 72 px (face ~29 px, eyes ~13 px apart) in a gray 120 px frame.
 /usr/bin/python3 - "$in/a_blair.jpg" "$in/h_tiny.png" <<'PY'
@@ -45,14 +46,15 @@ ws=$tmp/ws
 "$F" --set detect.detector=1 --set detect.descriptors=0 detect "$in" -w "$ws" > "$tmp/out" 2> "$tmp/err"; rc=$?
 check '[ $rc = 0 ]'
 cat "$tmp/err"
-check 'grep -q "^8 photos, " "$tmp/out"'
+check 'grep -q "^9 photos, " "$tmp/out"'
 check '[ -f "$ws/report.json" ]'
 /usr/bin/python3 - "$ws/report.json" "$in/g_user.pts" > "$tmp/check" 2>&1 <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
 photos = {p["file"].rsplit("/", 1)[-1]: p for p in r["photos"]}
 want = {"a_blair.jpg": "ok", "b_powell.JPG": "ok", "c_frame.jpeg": "ok", "d_cut.jpg": "unreadable",
-        "e_empty.jpg": "unreadable", "f_rocket.jpg": "no_face", "g_user.png": "ok", "h_tiny.png": "face_too_small"}
+        "e_empty.jpg": "unreadable", "f_rocket.jpg": "no_face", "g_user.png": "ok", "h_tiny.png": "face_too_small",
+        "i_gone.jpg": "unreadable"}
 bad = []
 if [p["file"].rsplit("/", 1)[-1] for p in r["photos"]] != sorted(want):
     bad.append("photos or order: %s" % list(photos))
@@ -70,6 +72,8 @@ for name, status in want.items():
         bad.append(name + ": subject %d of %d faces" % (p["subject"], len(p["faces"])))
     if status in ("unreadable", "no_face") and (p["faces"] or p["subject"] != -1):
         bad.append(name + ": faces on a failed photo")
+if "no such file" not in photos["i_gone.jpg"].get("reason", "") or not photos["i_gone.jpg"]["file"].startswith("/"):
+    bad.append("i_gone.jpg: %r, reason %r" % (photos["i_gone.jpg"]["file"], photos["i_gone.jpg"].get("reason")))
 if "empty" not in photos["e_empty.jpg"].get("reason", ""):
     bad.append("e_empty.jpg: reason %r" % photos["e_empty.jpg"].get("reason"))
 if photos["a_blair.jpg"]["width"] != 150 or photos["c_frame.jpeg"]["width"] != 480:
@@ -99,9 +103,16 @@ print("\n".join(bad) if bad else "report ok")
 PY
 cat "$tmp/check"
 check 'grep -qx "report ok" "$tmp/check"'
-check '[ $(ls "$ws/overlays/detect" | wc -l) = 8 ]'
+check '[ $(ls "$ws/overlays/detect" | wc -l) = 9 ]'
 check '[ -s "$ws/overlays/detect/3_d_cut.jpg" ] && [ -s "$ws/overlays/detect/7_h_tiny.jpg" ]'
 check '"$F" info "$ws/overlays/detect/0_a_blair.jpg" | grep -q "150x150"'
+
+# A folder with no photos: a sentence naming what it looked for, exit 1, no workspace written.
+mkdir "$tmp/none" && echo "not a photo" > "$tmp/none/notes.txt"
+"$F" detect "$tmp/none" -w "$tmp/ws_none" 2> "$tmp/err_none"; rc=$?
+check '[ $rc = 1 ]'
+check 'grep -q "none: the folder has no photos (.jpg, .jpeg, .png)" "$tmp/err_none"'
+check '[ ! -e "$tmp/ws_none/report.json" ]'
 
 # A new run replaces the report and the overlays; detect.user_landmarks=0 ignores the .pts.
 "$F" --quiet --set detect.detector=1 --set detect.descriptors=0 detect "$in/g_user.png" -w "$ws" --set detect.user_landmarks=0 > "$tmp/out2"; rc=$?
@@ -142,6 +153,6 @@ check '/usr/bin/python3 -c "$dupcheck" "$tmp/ws5/report.json" ok ok'
 # The progress bar, on a terminal.
 if command -v script > /dev/null; then
   script -qec "'$F' detect '$in' -w '$tmp/ws4' --no-overlays" /dev/null > "$tmp/tty" 2>&1
-  check 'grep -q "detect .*\[#*\] 8/8" "$tmp/tty"'
+  check 'grep -q "detect .*\[#*\] 9/9" "$tmp/tty"'
 fi
 exit $fail
