@@ -282,6 +282,11 @@ static void section_summary(page *p, run_ctx *r, const frig_photoset *set, int h
     if (counts[FRIG_PHOTO_OK] > used)
         put(p, "<div class=\"card\"><div class=\"big\">%zu</div>usable, not fitted</div>", counts[FRIG_PHOTO_OK] - used);
     put(p, "</section>\n");
+    if (have_rig && !r->stop[0] && used < RUN_FEW_PHOTOS)
+        put(p, "<div class=\"stop\"><b>Few photos:</b> only %zu photos were used for the rig. On synthetic subjects "
+               "(docs/run.md, \"How many photos\") rigs from 4-8 used photos were half again as far from the truth as "
+               "rigs from 20-30, and those from 9-19 came in between, nearer the latter. More photos of the person, from "
+               "other angles and with other expressions, give a closer shape.</div>\n", used);
     if (have_rig && r->stop[0]) {
         put(p, "<p class=\"files\">No rig was exported: the run stopped before the export stage (the pictures below show "
                "the last rig a stage made, not an exported one). Every photo's fate: <a href=\"report.json\">report.json</a>."
@@ -756,8 +761,8 @@ int run_write_report(run_ctx *r) {
         size_t used = 0;
         for (size_t i = 0; set && i < frig_photoset_count(set); i++)
             used += frig_photoset_status(set, i) == FRIG_PHOTO_OK && frig_photoset_fitted(set, i);
-        run_summary(r, "report.html: %zu photos shown, %zu used",
-                 set ? frig_photoset_count(set) : 0, used);
+        run_summary(r, "report.html: %zu photos shown, %zu used%s", set ? frig_photoset_count(set) : 0, used,
+                    have_rig && !r->stop[0] && used < RUN_FEW_PHOTOS ? " (few for the shape: see the report's note)" : "");
     }
     free(p.data);
     frig_photoset_free(set);

@@ -150,6 +150,9 @@ int run_save_rig(run_ctx *r, const frig_rig *rig);
 /* Count photos by status; usable = ok (and fitted when fitted is 1). Then the sentence for
  * too few, into r->stop, and RUN_STOP; else CLI_OK. */
 int run_check_enough(run_ctx *r, const frig_photoset *set, int fitted);
+/* Fewer photos used than this and the report says the shape is held back by it (docs/run.md, "How
+ * many photos": rigs from 4-8 used photos were half again as far from the truth as from 20-30). */
+#define RUN_FEW_PHOTOS 9
 /* The running stage's one-line result (cut to fit). */
 void run_summary(run_ctx *r, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
 /* "6 no_face, 2 outlier" for the photos that are not usable. */

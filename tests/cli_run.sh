@@ -131,4 +131,9 @@ check '[ $? = 1 ] && grep -q "another frig run is working in $tmp/named/face_run
 wait $pid; check '[ $? = 0 ]'
 check '[ -s "$tmp/named/face.glb" ] && [ -f "$tmp/named/face_shapes/jawOpen.obj" ] && [ -s "$tmp/named/face_run/report.json" ]'
 check '[ ! -e "$tmp/named/face_run/rig.glb" ] && [ "$(ls "$tmp/named/face_run/clouds" | grep -c "\.ply$")" = 2 ]'
+# Its report (the other stages up to date) says that 2 photos are few for the shape.
+"$F" --threads 2 "${O[@]}" --set run.min_photos=2 run "$tmp/few" --model "$M" -o "$tmp/named/face.glb" > /dev/null \
+  2> "$tmp/few_report.err"
+check '[ $? = 0 ] && grep -q "2 used (few for the shape: see the report.s note)" "$tmp/few_report.err"'
+check 'grep -q "<b>Few photos:</b> only 2 photos were used for the rig" "$tmp/named/face_run/report.html"'
 exit $fail

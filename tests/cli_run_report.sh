@@ -57,9 +57,13 @@ for need in ('id="rig"', 'id="errors"', 'id="coverage"', 'id="stages"', 'id="pho
              "sfs and retargeting included"):
     if need not in html:
         bad.append("no " + need)
+# Fewer than 9 photos used (RUN_FEW_PHOTOS): the report says so, and only then.
+used = sum(1 for p in report["photos"] if p["status"] == "ok" and "fit" in p)
+if ("<b>Few photos:</b> only %d photos were used" % used in html) != (used < 9):
+    bad.append("%d photos used: the few-photos note %s" % (used, "missing" if used < 9 else "shown"))
 if n != 16 or thumbs < n - 3:
     bad.append("%d photos, %d thumbnails" % (n, thumbs))
-print("\n".join(bad) if bad else "page ok: %d photos, %d thumbnails, %d links" % (n, thumbs, len(refs)))
+print("\n".join(bad) if bad else "page ok: %d photos (%d used), %d thumbnails, %d links" % (n, used, thumbs, len(refs)))
 PY
 cat "$tmp/page"
 check 'grep -q "^page ok" "$tmp/page"'
