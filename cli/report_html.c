@@ -283,7 +283,7 @@ static void section_summary(page *p, run_ctx *r, const frig_photoset *set, int h
         put(p, "<div class=\"card\"><div class=\"big\">%zu</div>usable, not fitted</div>", counts[FRIG_PHOTO_OK] - used);
     put(p, "</section>\n");
     if (have_rig && !r->stop[0] && used < RUN_FEW_PHOTOS)
-        put(p, "<div class=\"stop\"><b>Few photos:</b> only %zu photos were used for the rig. On synthetic subjects "
+        put(p, "<div class=\"note\"><b>Few photos:</b> only %zu photos were used for the rig. On synthetic subjects "
                "(docs/run.md, \"How many photos\") rigs from 4-8 used photos were half again as far from the truth as "
                "rigs from 20-30, and those from 9-19 came in between, nearer the latter. More photos of the person, from "
                "other angles and with other expressions, give a closer shape.</div>\n", used);
@@ -696,6 +696,7 @@ static const char style[] =
     ".big{font-size:30px;font-weight:600;color:#f0f0ec}.big.ok{color:#8bd17c}.big.warn{color:#e8a95a}.big.bad{color:#e0645a}"
     ".big.none{color:#a5a7ab}.big.dup{color:#8aa6c8}\n"
     ".stop{background:#4a2323;border:1px solid #7a3a3a;border-radius:8px;padding:10px 14px;margin:12px 0}\n"
+    ".note{background:#463c1e;border:1px solid #7a6a30;border-radius:8px;padding:10px 14px;margin:12px 0}\n"
     ".hero{display:flex;flex-wrap:wrap;gap:12px}figure{margin:0}figcaption{color:#9a9b98;font-size:13px;margin-top:4px}"
     "img.sheet{max-width:100%;border-radius:6px}\n"
     ".plots{display:flex;flex-wrap:wrap;gap:16px}.plot svg{background:#1e2023;border-radius:6px;max-width:100%;height:auto}"
