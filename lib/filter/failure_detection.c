@@ -327,7 +327,7 @@ frig_status fr_failure_detection(frig_ctx *ctx, int count, int texels, const dou
     memset(&m, 0, sizeof m);
     int settled = 0; /* the last round changed nothing: m is the model of the final inliers */
     /* Later rounds judge the inliers by a model of fewer photos. Below a dozen that model explains
-     * too little of a set's ordinary variety (1-3 components), and its rounds dropped 3-4 good
+     * too little of a set's ordinary variety (1-3 components), and its rounds dropped 4-36 good
      * photos for each failure they found (docs/filter.md, "Small sets"). */
     while (round < opt->max_rounds && n >= (round == 0 ? 3 : (opt->peel_min > 3 ? opt->peel_min : 3))) {
         round++;
