@@ -258,12 +258,24 @@ static void overlay_for(run_ctx *r, const frig_photoset *set, size_t i, char *re
 
 /* ---- sections ---- */
 
+/* The photos the rig was made from: usable and fitted. */
+static size_t used_photos(const frig_photoset *set) {
+    size_t used = 0;
+    for (size_t i = 0; set && i < frig_photoset_count(set); i++)
+        used += frig_photoset_status(set, i) == FRIG_PHOTO_OK && frig_photoset_fitted(set, i);
+    return used;
+}
+
+/* An exported rig from fewer photos than RUN_FEW_PHOTOS: the report says the shape is held back. */
+static int few_photos(const run_ctx *r, int have_rig, size_t used) {
+    return have_rig && !r->stop[0] && used < RUN_FEW_PHOTOS;
+}
+
 static void section_summary(page *p, run_ctx *r, const frig_photoset *set, int have_rig) {
-    size_t n = set ? frig_photoset_count(set) : 0, used = 0, counts[32] = {0};
+    size_t n = set ? frig_photoset_count(set) : 0, used = used_photos(set), counts[32] = {0};
     for (size_t i = 0; i < n; i++) {
         unsigned s = (unsigned)frig_photoset_status(set, i);
         if (s < 32) counts[s]++;
-        used += s == FRIG_PHOTO_OK && frig_photoset_fitted(set, i);
     }
     if (r->stop[0]) {
         put(p, "<div class=\"stop\"><b>The run stopped:</b> ");
@@ -282,7 +294,7 @@ static void section_summary(page *p, run_ctx *r, const frig_photoset *set, int h
     if (counts[FRIG_PHOTO_OK] > used)
         put(p, "<div class=\"card\"><div class=\"big\">%zu</div>usable, not fitted</div>", counts[FRIG_PHOTO_OK] - used);
     put(p, "</section>\n");
-    if (have_rig && !r->stop[0] && used < RUN_FEW_PHOTOS)
+    if (few_photos(r, have_rig, used))
         put(p, "<div class=\"note\"><b>Few photos:</b> only %zu photos were used for the rig. On synthetic subjects "
                "(docs/run.md, \"How many photos\") rigs from 4-8 used photos were half again as far from the truth as "
                "rigs from 20-30, and those from 9-19 came in between, nearer the latter. More photos of the person, from "
@@ -759,11 +771,9 @@ int run_write_report(run_ctx *r) {
     if (p.failed) rc = cli_fail_msg("run", "out of memory writing the report");
     else if (run_write_atomic(path, p.data, p.size)) rc = cli_fail_msg("run", "cannot write %s", path);
     if (rc == CLI_OK) {
-        size_t used = 0;
-        for (size_t i = 0; set && i < frig_photoset_count(set); i++)
-            used += frig_photoset_status(set, i) == FRIG_PHOTO_OK && frig_photoset_fitted(set, i);
+        size_t used = used_photos(set);
         run_summary(r, "report.html: %zu photos shown, %zu used%s", set ? frig_photoset_count(set) : 0, used,
-                    have_rig && !r->stop[0] && used < RUN_FEW_PHOTOS ? " (few for the shape: see the report's note)" : "");
+                    few_photos(r, have_rig, used) ? " (few for the shape: see the report's note)" : "");
     }
     free(p.data);
     frig_photoset_free(set);

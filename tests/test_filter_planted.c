@@ -564,17 +564,17 @@ static int bench_mode(frig_ctx *ctx, const char *tool, const char *sheet_dir, co
             if ((only && !strstr(only, all_sets[s])) || seeds < 1) continue;
             tally t[CONFIGS];
             for (int w = 0; w < (photos > 0 ? 4 : 1); w++) {
-            face_set window;
-            if (photos > 0) set_window(&sets[s], photos, 0.25 * w, &window);
-            run_trials(ctx, warp, photos > 0 ? &window : &sets[s], &sets[(s + 2) % N_SETS], rates[ri],
-                       ri == 0 ? 1 : seeds, &opt, t);
-            print_tallies(sets[s].name, rates[ri], ri == 0 ? 1 : seeds, t);
-            for (int c = 0; c < CONFIGS; c++) {
-                total[ri][c].tp += t[c].tp, total[ri][c].fp += t[c].fp, total[ri][c].fn += t[c].fn;
-                total[ri][c].runs += t[c].runs, total[ri][c].rounds += t[c].rounds, total[ri][c].auc += t[c].auc;
-                for (int k = 0; k < KINDS; k++)
-                    total[ri][c].kind_tp[k] += t[c].kind_tp[k], total[ri][c].kind_n[k] += t[c].kind_n[k];
-            }
+                face_set window;
+                if (photos > 0) set_window(&sets[s], photos, 0.25 * w, &window);
+                run_trials(ctx, warp, photos > 0 ? &window : &sets[s], &sets[(s + 2) % N_SETS], rates[ri],
+                           ri == 0 ? 1 : seeds, &opt, t);
+                print_tallies(sets[s].name, rates[ri], ri == 0 ? 1 : seeds, t);
+                for (int c = 0; c < CONFIGS; c++) {
+                    total[ri][c].tp += t[c].tp, total[ri][c].fp += t[c].fp, total[ri][c].fn += t[c].fn;
+                    total[ri][c].runs += t[c].runs, total[ri][c].rounds += t[c].rounds, total[ri][c].auc += t[c].auc;
+                    for (int k = 0; k < KINDS; k++)
+                        total[ri][c].kind_tp[k] += t[c].kind_tp[k], total[ri][c].kind_n[k] += t[c].kind_n[k];
+                }
             }
         }
     printf("\nall sets:\n");

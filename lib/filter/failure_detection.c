@@ -328,8 +328,9 @@ frig_status fr_failure_detection(frig_ctx *ctx, int count, int texels, const dou
     int settled = 0; /* the last round changed nothing: m is the model of the final inliers */
     /* Later rounds judge the inliers by a model of fewer photos. Below a dozen that model explains
      * too little of a set's ordinary variety (1-3 components), and its rounds dropped 4-36 good
-     * photos for each failure they found (docs/filter.md, "Small sets"). */
-    while (round < opt->max_rounds && n >= (round == 0 ? 3 : (opt->peel_min > 3 ? opt->peel_min : 3))) {
+     * photos for each failure they found (docs/filter.md, "Small sets"). Every round needs 3. */
+    int later_min = opt->peel_min > 3 ? opt->peel_min : 3;
+    while (round < opt->max_rounds && n >= (round == 0 ? 3 : later_min)) {
         round++;
         int ranks[2];
         if ((st = build_models(ctx, n, idx, texels, textures, shapes, opt, &m, ranks)) != FRIG_OK) break;
