@@ -63,6 +63,7 @@ SO=(--set sfs.texture_size=128 --set sfs.shape_size=64 --set sfs.face_px=100 --s
     --set sfs.stereo=0 --set sfs.joint_albedo=0 --set sfs.shape_iterations=4 --set sfs.shape_sigma=0.03)
 "$F" --quiet --threads 2 "${SO[@]}" sfs -w "$w" --no-overlays --model "$M"
 check '[ $? = 0 ] && [ -s "$w/textures/albedo.png" ]'
+check '$py -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if \"identity\" in r[\"sfs\"] else 1)" "$w/report.json"'
 sum_before=$(cat "$w"/clouds/*.ply | md5sum)
 "$F" --threads 2 "${SO[@]}" retarget -w "$w" --model "$M" --iterations 2 2>"$tmp/log_sfs"
 check '[ $? = 0 ]'
@@ -72,6 +73,8 @@ check '[ "$(cat "$w"/clouds/*.ply | md5sum)" != "$sum_before" ]'   # recovered w
 rounds=$($py -c 'import json,sys; r=json.load(open(sys.argv[1])); print(len(r["retarget"]["rounds"]), sum(1 for p in r["photos"] if "retarget" in p))' "$w/report.json")
 read nr np <<< "$rounds"
 check '[ "$nr" = 2 ] && [ "$np" -ge 3 ]'
+# each round started from the identity its clouds were drawn at, and used it: none is left over
+check '$py -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if \"identity\" not in r[\"sfs\"] else 1)" "$w/report.json"'
 "$F" --quiet export -w "$w" -o "$tmp/out_sfs" > /dev/null
 check '[ $? = 0 ] && [ -s "$tmp/out_sfs/shapes/neutral.obj" ]'
 # The glTF's face texture is the albedo the last recovery wrote, byte for byte.

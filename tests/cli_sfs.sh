@@ -70,6 +70,12 @@ echo "judged, clouds, clouds from failures, albedo size, pictures, clouds with a
 read njudged nclouds nbad tw th npics nmargins <<< "$summary"
 check '[ "$nclouds" -ge 4 ] && [ "$nbad" = 0 ] && [ "$tw" = 512 ] && [ "$th" = 512 ] && [ "$npics" = "$njudged" ]'
 check '[ "$nmargins" -ge 1 ]'   # sfs.cloud_region 2: the neck, ears and scalp apart
+# The shared solve moved the identity's first modes: report.json keeps what the clouds were drawn at
+# (the fit's identity with that change), for retarget to start from.
+idchange=$($py -c 'import json,sys; r=json.load(open(sys.argv[1])); a=r["fit"]["identity"]; b=r["sfs"]["identity"]; print(len(a) == len(b), sum(1 for x, y in zip(a, b) if x != y))' "$tmp/ws/report.json")
+echo "sfs identity: as long as the fit's, weights changed: $idchange"
+read idsame idmoved <<< "$idchange"
+check '[ "$idsame" = True ] && [ "$idmoved" -ge 1 ] && [ "$idmoved" -le 40 ]'
 # A rerun judges the same photos again and writes the same clouds.
 mkdir -p "$tmp/first" && cp "$tmp/ws/clouds/"*.ply "$tmp/first/"
 "$F" --quiet --threads 1 sfs -w "$tmp/ws" --no-overlays --model "$M"

@@ -229,6 +229,41 @@ static void check_margin(frig_ctx *ctx, const frig_model *model, const frig_synt
     CHECK(moved[1] > 0.1);
 }
 
+/* The identity the sfs stage drew the clouds at (set->sfs_identity): off (retarget.sfs_identity 0)
+ * the pass is byte for byte the plain one ('plain', the same clouds without it); on, the pass starts
+ * from it, so a start at the subject's true identity ends nearer the truth than the mean face's
+ * start; either way it is used once (dropped from the set). */
+static void check_sfs_identity(frig_ctx *ctx, const frig_model *model, const frig_synth_subject *subj,
+                               const frig_rig *start, const frig_rig *plain, double plain_mm) {
+    const frig_rig *true_rig = frig_synth_subject_rig(subj);
+    const double *truth_id = NULL;
+    int n_truth = frig_synth_subject_identity(subj, &truth_id);
+    int nv = frig_rig_vertex_count(plain);
+    double err[2] = {0, 0};
+    for (int on = 0; on < 2; on++) {
+        frig_photoset *set = NULL;
+        frig_clouds *clouds = NULL;
+        frig_rig *rig = NULL;
+        truth tw;
+        if (!make_set(ctx, model, subj, &set, &clouds, &tw, 0)) return;
+        double *w = calloc((size_t)set->n_identity + 1, sizeof(double));
+        for (int k = 0; w && k < set->n_identity && k < n_truth; k++) w[k] = truth_id[k];
+        CHECK(w && fr_photoset_set_sfs_identity(ctx, set, w) == FRIG_OK && set->sfs_identity);
+        CHECK(frig_rig_clone(ctx, start, &rig) == FRIG_OK);
+        CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_SFS_IDENTITY, on) == FRIG_OK);
+        CHECK(frig_retarget(ctx, model, set, clouds, rig) == FRIG_OK);
+        CHECK(set->sfs_identity == NULL);
+        err[on] = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(true_rig), frig_rig_neutral(rig), FACE);
+        if (!on) CHECK(memcmp(frig_rig_neutral(rig), frig_rig_neutral(plain), sizeof(float) * 3 * nv) == 0);
+        free(w);
+        frig_rig_free(rig), frig_clouds_free(clouds), frig_photoset_free(set);
+    }
+    CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_SFS_IDENTITY, 1) == FRIG_OK);
+    printf("started from the clouds' identity (here the truth's): neutral %.3f mm (off: %.3f, the plain pass %.3f)\n",
+           err[1], err[0], plain_mm);
+    CHECK(err[1] < err[0] - 0.05);
+}
+
 int main(void) {
     frig_ctx *ctx = frig_ctx_create();
     frig_model *model = fixture_model(ctx);
@@ -282,6 +317,7 @@ int main(void) {
     check_exported_collisions(ctx, model, start, rig);
     check_spread(ctx, model, subj, start);
     check_margin(ctx, model, subj, start, rig2);
+    check_sfs_identity(ctx, model, subj, start, rig2, after);
 
     /* The outer loop: two rounds (refit on the rig, retarget), recorded in the report; lighter
      * settings (this checks the loop, not the accuracy). */

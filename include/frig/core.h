@@ -196,7 +196,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_JOINT_ALBEDO = 622,      /* 1: the shared shape's albedo solved with the displacement (default 1) */
     FRIG_PARAM_SFS_SHAPE_ITERATIONS = 623,  /* Gauss-Newton iterations of the shared shape per round (default 2) */
     FRIG_PARAM_SFS_SHAPE_SIGMA = 624,       /* the shared shape's residual scale, relative intensity (default 0.1) */
-    FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 2) */
+    FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 4) */
     FRIG_PARAM_SFS_JOINT_MIN_PHOTOS = 626,  /* fewer photos: the light shared solve, no registration (default 4; docs/sfs.md) */
     FRIG_PARAM_SFS_JOINT_MAX_PHOTOS = 627,  /* more photos: the light shared solve too, for time (default 120; 0: no limit) */
     FRIG_PARAM_SFS_EXPRESSION_STEPS = 628,  /* each photo's expression steps per full shared round (default 2; 0 off) */
@@ -260,7 +260,8 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_LOOP_DEFORM_ITERATIONS = 731,   /* retarget.deform_iterations in the outer rounds after the first */
     FRIG_PARAM_RETARGET_IDENTITY_SPREAD = 732, /* variance of each cloud's own identity about the shared one (default 0.03) */
     FRIG_PARAM_RETARGET_MARGIN_WEIGHT = 733, /* weight of a cloud's margin points against its own (default 1) */
-    FRIG_PARAM_RETARGET_MIN_CLOUDS = 734     /* with fewer photos with a cloud the rig is left as it is (default 2) */
+    FRIG_PARAM_RETARGET_MIN_CLOUDS = 734,    /* with fewer photos with a cloud the rig is left as it is (default 2) */
+    FRIG_PARAM_RETARGET_SFS_IDENTITY = 735   /* 1: start from the identity the clouds were drawn at (sfs's); 0: the rig's (default 1) */
 } frig_param;
 
 FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);

@@ -176,7 +176,7 @@ static const param_row rows[] = {
      "Gauss-Newton iterations of the shared shape per round (the light solve takes 4)"},
     {FRIG_PARAM_SFS_SHAPE_SIGMA, "sfs.shape_sigma", 0.1, 1e-3, 1, 0,
      "the shared shape's residual scale, relative intensity of one standard deviation"},
-    {FRIG_PARAM_SFS_JOINT_POSE, "sfs.joint_pose", 2, 0, 50, 1,
+    {FRIG_PARAM_SFS_JOINT_POSE, "sfs.joint_pose", 4, 0, 50, 1,
      "Levenberg-Marquardt steps of each photo's pose against the shared shape's shading after each round (0 off)"},
     {FRIG_PARAM_SFS_JOINT_MIN_PHOTOS, "sfs.joint_min_photos", 4, 0, 1e6, 1,
      "with fewer photos to judge than this, the shared shape is solved the light way (albedo alternated, no multi-view "
@@ -307,6 +307,9 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_MIN_CLOUDS, "retarget.min_clouds", 2, 1, 1000000, 1,
      "with fewer photos with a point cloud, frig_retarget_refine leaves the rig as it is (measured: one cloud makes "
      "the neutral worse than the fit's, docs/retarget.md)"},
+    {FRIG_PARAM_RETARGET_SFS_IDENTITY, "retarget.sfs_identity", 1, 0, 1, 1,
+     "1: the pass starts from the identity the sfs stage drew the clouds at (the fit's with the change its shared "
+     "solve found; the rig's neutral moved by the modes' offset); 0: from the rig as it is"},
     {FRIG_PARAM_RETARGET_IDENTITY_SPREAD, "retarget.identity_spread", 0.03, 0, 100, 0,
      "variance (in the model's identity units) of the identity each cloud shows about the shared one: a cloud's "
      "errors are smooth and shared by its points, so each photo's say on the shared identity is capped (0: "

@@ -37,6 +37,22 @@ void fr_rt_photo_borrow_cloud(fr_rt_photo *p, const frig_clouds *clouds, size_t 
     p->n_points = p->n_core + frig_clouds_margin_count(clouds, photo); /* the margin too */
 }
 
+/* The identity the sfs stage drew the clouds at (the fit's with its shared solve's change): the
+ * rig's neutral moves by the modes' offset over the whole head and the set's identity becomes it,
+ * so the pass starts from the surface the clouds were made from (docs/retarget.md, "Starting from
+ * the identity sfs found"). */
+static void start_from_sfs_identity(const frig_model *model, frig_photoset *set, frig_rig *rig, int n_id) {
+    size_t n3 = 3 * (size_t)model->topo.vertex_count;
+    float *neutral = rig->neutral;
+    for (int k = 0; k < n_id; k++) {
+        double d = set->sfs_identity[k] - set->identity[k];
+        if (d == 0) continue;
+        const float *mode = model->identity + n3 * (size_t)k;
+        for (size_t i = 0; i < n3; i++) neutral[i] = (float)(neutral[i] + d * mode[i]);
+        set->identity[k] = set->sfs_identity[k];
+    }
+}
+
 frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset *set, const frig_clouds *clouds,
                           frig_rig *rig) {
     if (!model || !set || !clouds || !rig) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget: NULL argument");
@@ -91,7 +107,11 @@ frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset 
         fr_rt_settings st;
         fr_rt_settings_from_ctx(ctx, &st);
         int n_id = set->n_identity < frig_model_identity_count(model) ? set->n_identity : frig_model_identity_count(model);
+        if (set->sfs_identity && fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_IDENTITY))
+            start_from_sfs_identity(model, set, rig, n_id);
         s = fr_rt_run(ctx, &st, model, rig, nf, K, fit_shape, n, ph, set->identity, n_id);
+        /* used (or declined): the rig now is what the next clouds are drawn from */
+        if (!s) s = fr_photoset_set_sfs_identity(ctx, set, NULL);
     }
     if (!s) {
         for (size_t i = 0; i < set->count; i++) set->photos[i].retargeted = 0;

@@ -262,6 +262,20 @@ static frig_status sfs_expression_to_report(frig_ctx *ctx, const frig_rig *rig, 
     return s;
 }
 
+/* The identity the clouds were drawn at: the fit's with the shared solve's change in the model's
+ * first modes (none when the shared solve did not move the identity). */
+static frig_status sfs_identity_to_report(frig_ctx *ctx, const fr_sfs_run *run, frig_photoset *set) {
+    int m = run->st.identity_count;
+    if (!run->ident || m <= 0 || m > set->n_identity || !set->identity) return fr_photoset_set_sfs_identity(ctx, set, NULL);
+    double *w = malloc(sizeof(double) * (size_t)set->n_identity);
+    if (!w) return fr_nomem(ctx, "the sfs identity");
+    memcpy(w, set->identity, sizeof(double) * (size_t)set->n_identity);
+    for (int k = 0; k < m; k++) w[k] += run->ident[k];
+    frig_status s = fr_photoset_set_sfs_identity(ctx, set, w);
+    free(w);
+    return s;
+}
+
 frig_status fr_sfs_stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
                          const char *overlay_dir, frig_clouds **clouds, frig_image **albedo) {
     return stage(ctx, rig, set, st, overlay_dir, clouds, albedo, NULL);
@@ -345,6 +359,7 @@ static frig_status stage(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set,
     (void)usable;
     if (!s) fr_photoset_set_sfs_solve(set, run.light_why ? FRIG_SFS_SOLVE_LIGHT : FRIG_SFS_SOLVE_FULL, run.light_why, run.n,
                                       run.light_axis);
+    if (!s) s = sfs_identity_to_report(ctx, &run, set);
     if (!s && albedo) s = fr_sfs_run_albedo(ctx, &run, albedo);
     cpu[2] = fr_cpu_seconds();
     fr_log(ctx, FRIG_LOG_DEBUG, "sfs (CPU s): regions, poses, clouds%s %.2f, albedo texture %.2f",

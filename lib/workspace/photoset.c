@@ -35,6 +35,7 @@ void frig_photoset_free(frig_photoset *set) {
     for (int k = 0; k < set->n_expressions; k++) free(set->expression_names[k]);
     free(set->expression_names);
     free(set->identity);
+    free(set->sfs_identity);
     free(set->rt_round);
     free(set->photos);
     free(set);
@@ -263,9 +264,9 @@ static void drop_fits(frig_photoset *set) {
     }
     for (int k = 0; k < set->n_expressions; k++) free(set->expression_names[k]);
     free(set->expression_names);
-    free(set->identity);
+    free(set->identity), free(set->sfs_identity);
     set->expression_names = NULL;
-    set->identity = NULL;
+    set->identity = set->sfs_identity = NULL;
     set->n_expressions = set->n_identity = 0;
 }
 

@@ -75,6 +75,10 @@ struct frig_photoset {
     int sfs_solve, sfs_photos; /* frig_sfs_solve; photos judged */
     int sfs_why;               /* fr_sfs_why */
     double sfs_light_axis;
+    /* sfs: the identity its clouds were drawn at (n_identity weights: the fit's with the change the
+     * shared solve found in the model's first modes; NULL: the fit's). Retarget starts from it and
+     * drops it; a new fit drops it too. */
+    double *sfs_identity;
     /* retarget: the outer loop's rounds (report.json "retarget") */
     int rt_rounds;
     fr_retarget_round *rt_round;
@@ -116,6 +120,8 @@ int fr_report_read_set_identity(frig_photoset *set, const void *json_root, char 
 /* Record one photo's shape-from-shading results (sfs_report.c). */
 void fr_photoset_set_sfs(fr_photo *p, int pixels, int kept, double error, const double lighting[27], const double R[9],
                          const double t[3]);
+/* Record the identity the clouds were drawn at (NULL: the fit's; n must be set->n_identity). */
+frig_status fr_photoset_set_sfs_identity(frig_ctx *ctx, frig_photoset *set, const double *identity);
 /* Why the sfs stage took the light shared solve (frig_photoset_sfs_solve's why). */
 typedef enum fr_sfs_why { FR_SFS_WHY_NONE = 0, FR_SFS_WHY_FEW_PHOTOS, FR_SFS_WHY_MANY_PHOTOS, FR_SFS_WHY_ONE_LIGHT_AXIS } fr_sfs_why;
 /* Record the stage's shared solve (solve: frig_sfs_solve). */

@@ -6,7 +6,9 @@
  *           non-zero ones; only when sfs refined them}
  * and the set's (the shared solve of the stage's last run):
  *   "sfs": {"shared_solve": "full" or "light", "why": "" / "few_photos" / "many_photos" / "one_light_axis",
- *           "photos": 27 (judged), "light_axis": 0.571 (the lights' concentration along one axis)}
+ *           "photos": 27 (judged), "light_axis": 0.571 (the lights' concentration along one axis),
+ *           "identity": [the fit's identity weights with the shared solve's change: what the clouds were
+ *           drawn at; only when the shared solve moved the identity and retarget has not used it yet]}
  * (docs/sfs.md, docs/workspace.md), and the photo set's accessors for them. */
 #include <math.h>
 #include <stdlib.h>
@@ -24,17 +26,20 @@ void fr_photoset_set_sfs(fr_photo *p, int pixels, int kept, double error, const 
     memcpy(p->sfs_translation, t, sizeof p->sfs_translation);
 }
 
-frig_status fr_photoset_set_sfs_expression(frig_ctx *ctx, frig_photoset *set, size_t i, const double *weights) {
-    fr_photo *p = &set->photos[i];
-    if (!weights || set->n_expressions <= 0) {
-        free(p->sfs_expression);
-        p->sfs_expression = NULL;
+/* *slot becomes a copy of the n weights (NULL, or n <= 0: none). */
+static frig_status keep_weights(frig_ctx *ctx, double **slot, const double *weights, int n, const char *what) {
+    if (!weights || n <= 0) {
+        free(*slot);
+        *slot = NULL;
         return FRIG_OK;
     }
-    if (!p->sfs_expression && !(p->sfs_expression = malloc(sizeof(double) * (size_t)set->n_expressions)))
-        return fr_nomem(ctx, "a photo's sfs expression");
-    memcpy(p->sfs_expression, weights, sizeof(double) * (size_t)set->n_expressions);
+    if (!*slot && !(*slot = malloc(sizeof(double) * (size_t)n))) return fr_nomem(ctx, what);
+    memcpy(*slot, weights, sizeof(double) * (size_t)n);
     return FRIG_OK;
+}
+
+frig_status fr_photoset_set_sfs_expression(frig_ctx *ctx, frig_photoset *set, size_t i, const double *weights) {
+    return keep_weights(ctx, &set->photos[i].sfs_expression, weights, set->n_expressions, "a photo's sfs expression");
 }
 
 static void numbers(fr_json *j, const char *key, const double *v, int n) {
@@ -131,6 +136,10 @@ frig_status frig_photoset_sfs_pose(const frig_photoset *set, size_t i, double R[
     return FRIG_OK;
 }
 
+frig_status fr_photoset_set_sfs_identity(frig_ctx *ctx, frig_photoset *set, const double *identity) {
+    return keep_weights(ctx, &set->sfs_identity, identity, set->n_identity, "the sfs identity");
+}
+
 static const char *const why_names[] = {"", "few_photos", "many_photos", "one_light_axis"};
 static const char *const solve_names[] = {"", "full", "light"};
 
@@ -148,6 +157,7 @@ void fr_report_write_set_sfs(fr_json *j, const frig_photoset *set) {
     fr_json_string(j, "why", why_names[set->sfs_why]);
     fr_json_int(j, "photos", set->sfs_photos);
     fr_json_number(j, "light_axis", set->sfs_light_axis);
+    if (set->sfs_identity) numbers(j, "identity", set->sfs_identity, set->n_identity);
     fr_json_end(j);
 }
 
@@ -169,7 +179,17 @@ frig_status fr_report_read_set_sfs(frig_ctx *ctx, frig_photoset *set, const cJSO
         !(axis->valuedouble >= 0 && axis->valuedouble <= 1.5))
         return fr_error(ctx, FRIG_ERR_CORRUPT, "report.json: a malformed \"sfs\" block (the shared solve)");
     fr_photoset_set_sfs_solve(set, solve, why, photos->valueint, axis->valuedouble);
-    return FRIG_OK;
+    const cJSON *id = cJSON_GetObjectItemCaseSensitive(b, "identity");
+    if (!id) return FRIG_OK;
+    double *w = malloc(sizeof(double) * (size_t)(set->n_identity > 0 ? set->n_identity : 1));
+    if (!w) return fr_nomem(ctx, "the sfs identity");
+    frig_status s = FRIG_OK;
+    if (set->n_identity <= 0 || !fr_report_read_numbers(id, w, set->n_identity))
+        s = fr_error(ctx, FRIG_ERR_CORRUPT, "report.json: the \"sfs\" block's identity is not %d numbers (the fit's)",
+                     set->n_identity);
+    if (!s) s = fr_photoset_set_sfs_identity(ctx, set, w);
+    free(w);
+    return s;
 }
 
 frig_sfs_solve frig_photoset_sfs_solve(const frig_photoset *set, int *photos, double *light_axis, const char **why) {
