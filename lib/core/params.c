@@ -99,10 +99,10 @@ static const param_row rows[] = {
      "joint identity prior: this fraction of the selected photos' mean identity (1: the paper; 0: the model mean)"},
     {FRIG_PARAM_FIT_MEAN_SIZE, "fit.mean_size", 1, 0, 1, 1,
      "1: the identity keeps the mean face's size, in the fit's joint identity and retarget's identity from the clouds (photos do not show a head's size; the landmarks' bias would set it)"},
-    {FRIG_PARAM_FIT_OUTLINE_ITERATIONS, "fit.outline_iterations", 8, 0, 50, 1,
+    {FRIG_PARAM_FIT_OUTLINE_ITERATIONS, "fit.outline_iterations", 16, 0, 50, 1,
      "Gauss-Newton steps of the identity and every photo's pose from the photos' outlines (where the head is "
      "seen edge-on against the background) after the landmark fit; 0: off"},
-    {FRIG_PARAM_FIT_OUTLINE_PRIOR, "fit.outline_prior", 100, 0.01, 1e6, 0,
+    {FRIG_PARAM_FIT_OUTLINE_PRIOR, "fit.outline_prior", 30, 0.01, 1e6, 0,
      "weight of the identity's prior N(0, I) in the outline steps, against one outline pixel's error of a pixel"},
     {FRIG_PARAM_FIT_W_FOCAL, "fit.w_focal", 10, 0, 1e9, 0,
      "weight of the focal length's prior log(f / f0)^2 (f0: 1.4 times the photo's longer side, a 50 mm lens)"},
