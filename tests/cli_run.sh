@@ -29,8 +29,9 @@ before=$(cd "$photos" && sha256sum * | sha256sum)
 # The report and the SSD detector are tested by cli_run_report.sh (and identity's tests); here the
 # cascades (detect.detector=1), small textures, a coarse sfs (the shared shape as before 2026-12-02:
 # 3 alternated rounds, no registration), one outer round (two, recovering the
-# clouds in the loop, in the kill test) and --no-report keep a dozen runs quick under ASan.
-O=(--set detect.detector=1 --set export.texture_size=64 --set sfs.texture_size=128 --set sfs.shape_size=64
+# clouds in the loop, in the kill test), four outline steps in the fit and --no-report keep a dozen runs
+# quick under ASan.
+O=(--set detect.detector=1 --set fit.outline_iterations=4 --set export.texture_size=64 --set sfs.texture_size=128 --set sfs.shape_size=64
    --set sfs.face_px=100 --set retarget.iterations=1 --set sfs.rounds=3 --set sfs.pose_levels=0 --set sfs.stereo=0
    --set sfs.joint_albedo=0 --set sfs.shape_iterations=4 --set sfs.shape_sigma=0.03)
 run() { "$F" --threads 2 "${O[@]}" "${@:2}" run "$photos" --model "$M" --no-report -o "$1"; }

@@ -23,7 +23,7 @@ photos="$tmp/synth/subject_00/photos"
 ffmpeg -nostdin -v error -framerate 4 -i "$photos/photo_%03d.jpg" -vf "fps=8" -c:v mjpeg -q:v 3 "$tmp/clip.mkv" || exit 1
 
 # A coarse sfs and one outer round keep it quick (cli_run and cli_retarget run two).
-O=(--set export.texture_size=64 --set sfs.texture_size=128 --set sfs.shape_size=64 --set sfs.face_px=100 --set retarget.iterations=1
+O=(--set fit.outline_iterations=4 --set export.texture_size=64 --set sfs.texture_size=128 --set sfs.shape_size=64 --set sfs.face_px=100 --set retarget.iterations=1
    --set sfs.rounds=3 --set sfs.pose_levels=0 --set sfs.stereo=0 --set sfs.joint_albedo=0 --set sfs.shape_iterations=4
    --set sfs.shape_sigma=0.03)
 "$F" --threads 2 "${O[@]}" --set run.video_frames=8 run "$photos" "$tmp/clip.mkv" --model "$M" \
