@@ -207,6 +207,21 @@ static void write_vertices(const char *path, const float *x, int nv) {
     fclose(f);
 }
 
+/* How far the weights' errors dw (one per rig shape, scaled by 'scale') move the rig: the mean over the
+ * narrow face (its first 6706 vertices) of |sum_j scale dw_j d_j|, mm. */
+static double rig_motion_mm(const frig_rig *rig, const double *dw, double scale) {
+    int nfv = 6706 < rig->topo.vertex_count ? 6706 : rig->topo.vertex_count;
+    size_t n3 = 3 * (size_t)rig->topo.vertex_count;
+    double sum = 0;
+    for (int q = 0; q < nfv; q++) {
+        double a[3] = {0, 0, 0};
+        for (int j = 0; j < rig->shape_count; j++)
+            for (int c = 0; c < 3; c++) a[c] += scale * dw[j] * rig->deltas[n3 * j + 3 * (size_t)q + c];
+        sum += sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+    }
+    return 1e3 * sum / nfv;
+}
+
 static void log_stderr(void *user, frig_log_level level, const char *msg) {
     (void)user, (void)level;
     fprintf(stderr, "%s\n", msg);
@@ -440,6 +455,9 @@ int main(int argc, char **argv) {
     long bad = 0, good = 0, bad_skin = 0, bad_kept = 0, good_skin = 0, good_kept = 0;
     int rows = 0, wcount = 0;
     double wfit_err = 0, wref_err = 0, wsurf_fit = 0, wsurf_ref = 0;
+    double *bias_f = calloc((size_t)rig->shape_count + 1, sizeof(double));
+    double *bias_r = calloc((size_t)rig->shape_count + 1, sizeof(double));
+    int nbias = 0;
     for (int k = 0; k < run.n; k++) {
         const fr_photo *p = &set->photos[run.photo[k]];
         fr_sfs_view *v = &run.views[k];
@@ -469,19 +487,9 @@ int main(int argc, char **argv) {
             if (ks >= 0) dwf[ks] = p->fit_expression[e] - wt, dwr[ks] = v->weights[ks] - wt;
         }
         /* and as a surface: the rig moved by the weights' errors, mean over the narrow face, mm */
-        int nfv = 6706 < rig->topo.vertex_count ? 6706 : rig->topo.vertex_count;
-        size_t n3 = 3 * (size_t)rig->topo.vertex_count;
-        double sf = 0, sr = 0;
-        for (int q = 0; q < nfv; q++) {
-            double a[3] = {0, 0, 0}, b[3] = {0, 0, 0};
-            for (int j = 0; j < rig->shape_count; j++)
-                for (int c = 0; c < 3; c++) {
-                    double dl = rig->deltas[n3 * j + 3 * (size_t)q + c];
-                    a[c] += dwf[j] * dl, b[c] += dwr[j] * dl;
-                }
-            sf += sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]), sr += sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
-        }
-        wsurf_fit += 1e3 * sf / nfv, wsurf_ref += 1e3 * sr / nfv;
+        wsurf_fit += rig_motion_mm(rig, dwf, 1), wsurf_ref += rig_motion_mm(rig, dwr, 1);
+        for (int j = 0; j < rig->shape_count; j++) bias_f[j] += dwf[j], bias_r[j] += dwr[j];
+        nbias++;
         free(dwf), free(dwr);
         fr_sfs_select_region(v, &st);
         double R2[9], t2[3];
@@ -555,6 +563,22 @@ int main(int argc, char **argv) {
     printf("the rig moved by the weights' errors, mean over the narrow face and the photos: fit %.3f mm, the stage's "
            "%.3f mm\n",
            wsurf_fit / (rows ? rows : 1), wsurf_ref / (rows ? rows : 1));
+    { /* the part of the weights' errors that every photo shares (their mean): an identity error */
+        double inv = 1.0 / (nbias ? nbias : 1);
+        printf("the rig moved by the weights' mean error over the photos (shared by all), mean over the narrow face: "
+               "fit %.3f mm, the stage's %.3f mm; largest mean errors (stage):",
+               rig_motion_mm(rig, bias_f, inv), rig_motion_mm(rig, bias_r, inv));
+        for (int pass = 0; pass < 6; pass++) {
+            int best = -1;
+            for (int j = 0; j < rig->shape_count; j++)
+                if (best < 0 || fabs(bias_r[j]) > fabs(bias_r[best])) best = j;
+            if (best < 0) break;
+            printf(" %s %+.3f", frig_rig_shape_name(rig, best), bias_r[best] * inv);
+            bias_r[best] = 0;
+        }
+        printf("\n");
+        free(bias_f), free(bias_r);
+    }
     double h[3], cm[3], turn = common_turn_error(Rfit, Rtrue, rows, qw, cm);
     printf("the fit's rotation error after its common turn (%.2f deg): mean %.2f (median %.2f) deg\n", turn, cm[0], cm[1]);
     turn = common_turn_error(Rjs, Rtrue, rows, qw, cm);

@@ -229,6 +229,15 @@ static void check_margin(frig_ctx *ctx, const frig_model *model, const frig_synt
     CHECK(moved[1] > 0.1);
 }
 
+/* A fresh set of the subject's photos and perfect clouds, and a rig cloned from 'start'. */
+static int fresh_pass(frig_ctx *ctx, const frig_model *model, const frig_synth_subject *subj, const frig_rig *start,
+                      frig_photoset **set, frig_clouds **clouds, frig_rig **rig) {
+    truth tw;
+    if (!make_set(ctx, model, subj, set, clouds, &tw, 0)) return 0;
+    CHECK(frig_rig_clone(ctx, start, rig) == FRIG_OK);
+    return *rig != NULL;
+}
+
 /* The identity the sfs stage drew the clouds at (set->sfs_identity): off (retarget.sfs_identity 0)
  * the pass is byte for byte the plain one ('plain', the same clouds without it); on, the pass starts
  * from it, so a start at the subject's true identity ends nearer the truth than the mean face's
@@ -244,12 +253,10 @@ static void check_sfs_identity(frig_ctx *ctx, const frig_model *model, const fri
         frig_photoset *set = NULL;
         frig_clouds *clouds = NULL;
         frig_rig *rig = NULL;
-        truth tw;
-        if (!make_set(ctx, model, subj, &set, &clouds, &tw, 0)) return;
+        if (!fresh_pass(ctx, model, subj, start, &set, &clouds, &rig)) return;
         double *w = calloc((size_t)set->n_identity + 1, sizeof(double));
         for (int k = 0; w && k < set->n_identity && k < n_truth; k++) w[k] = truth_id[k];
         CHECK(w && fr_photoset_set_sfs_identity(ctx, set, w) == FRIG_OK && set->sfs_identity);
-        CHECK(frig_rig_clone(ctx, start, &rig) == FRIG_OK);
         CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_SFS_IDENTITY, on) == FRIG_OK);
         CHECK(frig_retarget(ctx, model, set, clouds, rig) == FRIG_OK);
         CHECK(set->sfs_identity == NULL);
@@ -262,6 +269,42 @@ static void check_sfs_identity(frig_ctx *ctx, const frig_model *model, const fri
     printf("started from the clouds' identity (here the truth's): neutral %.3f mm (off: %.3f, the plain pass %.3f)\n",
            err[1], err[0], plain_mm);
     CHECK(err[1] < err[0] - 0.05);
+}
+
+/* Weights every photo shares (retarget.recenter): the starting rig's jaw 0.25 jawOpen more closed
+ * than the subject's, and every photo's fit, seeing it, given 0.25 jawOpen more than the photo
+ * shows (what the fit and the sfs stage do when the person's chin is longer than the model's
+ * identity makes it). With the weights' low quantile moved into the neutral the pass ends near the
+ * unbiased pass ('plain_mm'); without it the neutral keeps part of the short chin. */
+static void check_recenter(frig_ctx *ctx, const frig_model *model, const frig_synth_subject *subj,
+                           const frig_rig *start, double plain_mm) {
+    const frig_rig *true_rig = frig_synth_subject_rig(subj);
+    double err[2] = {0, 0};
+    for (int on = 0; on < 2; on++) {
+        frig_photoset *set = NULL;
+        frig_clouds *clouds = NULL;
+        frig_rig *rig = NULL;
+        if (!fresh_pass(ctx, model, subj, start, &set, &clouds, &rig)) return;
+        int jaw = -1, k = frig_rig_shape_find(rig, "jawOpen");
+        for (int e = 0; e < set->n_expressions; e++)
+            if (!strcmp(set->expression_names[e], "jawOpen")) jaw = e;
+        CHECK(jaw >= 0 && k >= 0);
+        if (jaw < 0 || k < 0) return;
+        for (size_t i = 0; i < set->count; i++) set->photos[i].fit_expression[jaw] += 0.25;
+        size_t n3 = 3 * (size_t)frig_rig_vertex_count(rig);
+        const float *d = frig_rig_shape_deltas(rig, k);
+        for (size_t c = 0; c < n3; c++) rig->neutral[c] -= 0.25f * d[c];
+        CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_RECENTER, on ? 0.1 : 0) == FRIG_OK);
+        CHECK(frig_retarget(ctx, model, set, clouds, rig) == FRIG_OK);
+        err[on] = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(true_rig), frig_rig_neutral(rig), FACE);
+        frig_rig_free(rig), frig_clouds_free(clouds), frig_photoset_free(set);
+    }
+    CHECK(frig_ctx_set_param(ctx, FRIG_PARAM_RETARGET_RECENTER, 0.1) == FRIG_OK);
+    printf("the start's jaw 0.25 jawOpen too closed, every fit 0.25 too open: neutral %.3f mm with the weights' low "
+           "quantile moved into it, %.3f mm without (the unbiased pass: %.3f)\n",
+           err[1], err[0], plain_mm);
+    CHECK(err[1] < err[0] - 0.1);
+    CHECK(err[1] < plain_mm + 0.1);
 }
 
 int main(void) {
@@ -318,6 +361,7 @@ int main(void) {
     check_spread(ctx, model, subj, start);
     check_margin(ctx, model, subj, start, rig2);
     check_sfs_identity(ctx, model, subj, start, rig2, after);
+    check_recenter(ctx, model, subj, start, after);
 
     /* The outer loop: two rounds (refit on the rig, retarget), recorded in the report; lighter
      * settings (this checks the loop, not the accuracy). */

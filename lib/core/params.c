@@ -310,6 +310,10 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_SFS_IDENTITY, "retarget.sfs_identity", 1, 0, 1, 1,
      "1: the pass starts from the identity the sfs stage drew the clouds at (the fit's with the change its shared "
      "solve found; the rig's neutral moved by the modes' offset); 0: from the rig as it is"},
+    {FRIG_PARAM_RETARGET_RECENTER, "retarget.recenter", 0.1, 0, 0.5, 0,
+     "each fitted expression's weight that this share of the photos exceeds (a low quantile over the photos) is "
+     "moved into the neutral before the pass: a weight every photo shows is the person's face, not an expression "
+     "(0: none)"},
     {FRIG_PARAM_RETARGET_IDENTITY_SPREAD, "retarget.identity_spread", 0.03, 0, 100, 0,
      "variance (in the model's identity units) of the identity each cloud shows about the shared one: a cloud's "
      "errors are smooth and shared by its points, so each photo's say on the shared identity is capped (0: "

@@ -53,6 +53,40 @@ static void start_from_sfs_identity(const frig_model *model, frig_photoset *set,
     }
 }
 
+static int by_value(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* A weight (nearly) every photo shows is the person's neutral, not an expression: the fit explains
+ * a chin longer than the model's identity makes it by jawOpen in every photo, the sfs stage's
+ * expression step, refining the weights against the pixels, keeps it, and the neutral fused under
+ * those weights keeps the chin short. Each fitted shape's low quantile q of the weights the clouds
+ * were drawn at (retarget.recenter) moves from every photo's weight into the rig's neutral, over
+ * the whole head, before the pass (docs/retarget.md, "Weights every photo shares"). */
+static frig_status recenter_weights(frig_ctx *ctx, double quantile, frig_rig *rig, int K, const int *fit_shape,
+                                    fr_rt_photo *ph, int n) {
+    if (!(quantile > 0) || n < 2) return FRIG_OK;
+    double *v = malloc(sizeof(double) * (size_t)n);
+    if (!v) return fr_nomem(ctx, "the weights' quantiles");
+    size_t n3 = 3 * (size_t)rig->topo.vertex_count;
+    for (int a = 0; a < K; a++) {
+        for (int i = 0; i < n; i++) v[i] = ph[i].w[a];
+        qsort(v, (size_t)n, sizeof(double), by_value);
+        double x = quantile * (n - 1);
+        int lo = (int)floor(x);
+        double q = lo + 1 < n ? v[lo] + (x - lo) * (v[lo + 1] - v[lo]) : v[lo];
+        if (!(q > 0)) continue;
+        const float *d = rig->deltas + n3 * (size_t)fit_shape[a];
+        for (size_t c = 0; c < n3; c++) rig->neutral[c] = (float)(rig->neutral[c] + q * d[c]);
+        for (int i = 0; i < n; i++) ph[i].w[a] = ph[i].w[a] > q ? ph[i].w[a] - q : 0;
+        fr_log(ctx, FRIG_LOG_DEBUG, "retarget: %.3f of %s moved from every photo's weight into the neutral", q,
+               rig->shape_names[fit_shape[a]]);
+    }
+    free(v);
+    return FRIG_OK;
+}
+
 frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset *set, const frig_clouds *clouds,
                           frig_rig *rig) {
     if (!model || !set || !clouds || !rig) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget: NULL argument");
@@ -109,7 +143,8 @@ frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset 
         int n_id = set->n_identity < frig_model_identity_count(model) ? set->n_identity : frig_model_identity_count(model);
         if (set->sfs_identity && fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_IDENTITY))
             start_from_sfs_identity(model, set, rig, n_id);
-        s = fr_rt_run(ctx, &st, model, rig, nf, K, fit_shape, n, ph, set->identity, n_id);
+        s = recenter_weights(ctx, fr_param(ctx, FRIG_PARAM_RETARGET_RECENTER), rig, K, fit_shape, ph, n);
+        if (!s) s = fr_rt_run(ctx, &st, model, rig, nf, K, fit_shape, n, ph, set->identity, n_id);
         /* used (or declined): the rig now is what the next clouds are drawn from */
         if (!s) s = fr_photoset_set_sfs_identity(ctx, set, NULL);
     }
