@@ -63,7 +63,9 @@ static int by_value(const void *a, const void *b) {
  * expression step, refining the weights against the pixels, keeps it, and the neutral fused under
  * those weights keeps the chin short. Each fitted shape's low quantile q of the weights the clouds
  * were drawn at (retarget.recenter) moves from every photo's weight into the rig's neutral, over
- * the whole head, before the pass (docs/retarget.md, "Weights every photo shares"). */
+ * the whole head, before the pass. Only when every photo's weights are the sfs stage's (read from
+ * its pixels): the landmark fit's alone (the light shared solve, a video) can share a bias the
+ * pixels do not show (docs/retarget.md, "Weights every photo shares"). */
 static frig_status recenter_weights(frig_ctx *ctx, double quantile, frig_rig *rig, int K, const int *fit_shape,
                                     fr_rt_photo *ph, int n) {
     if (!(quantile > 0) || n < 2) return FRIG_OK;
@@ -143,7 +145,10 @@ frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset 
         int n_id = set->n_identity < frig_model_identity_count(model) ? set->n_identity : frig_model_identity_count(model);
         if (set->sfs_identity && fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_IDENTITY))
             start_from_sfs_identity(model, set, rig, n_id);
-        s = recenter_weights(ctx, fr_param(ctx, FRIG_PARAM_RETARGET_RECENTER), rig, K, fit_shape, ph, n);
+        int from_pixels = 0;
+        for (int a = 0; a < n; a++) from_pixels += set->photos[ph[a].index].sfs_expression != NULL;
+        if (from_pixels == n)
+            s = recenter_weights(ctx, fr_param(ctx, FRIG_PARAM_RETARGET_RECENTER), rig, K, fit_shape, ph, n);
         if (!s) s = fr_rt_run(ctx, &st, model, rig, nf, K, fit_shape, n, ph, set->identity, n_id);
         /* used (or declined): the rig now is what the next clouds are drawn from */
         if (!s) s = fr_photoset_set_sfs_identity(ctx, set, NULL);
