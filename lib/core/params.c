@@ -310,6 +310,10 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_SFS_IDENTITY, "retarget.sfs_identity", 1, 0, 1, 1,
      "1: the pass starts from the identity the sfs stage drew the clouds at (the fit's with the change its shared "
      "solve found; the rig's neutral moved by the modes' offset); 0: from the rig as it is"},
+    {FRIG_PARAM_RETARGET_IDENTITY_WEIGHTS_RIDGE, "retarget.identity_weights_ridge", 0.5, 0, 1e6, 0,
+     "in the identity fit to the clouds, the cost of a photo's expression weight of 1 per match, in units of a match's "
+     "squared 1 mm residual: how much each photo's weights may explain its cloud before the shared identity does (a "
+     "shape every photo shows, such as a longer chin read as jawOpen, is then the identity's)"},
     {FRIG_PARAM_RETARGET_RECENTER, "retarget.recenter", 0.1, 0, 0.5, 0,
      "each fitted expression's weight that this share of the photos exceeds (a low quantile over the photos) is "
      "moved into the neutral before the pass: a weight every photo shows is the person's face, not an expression "

@@ -12,6 +12,10 @@
  * one (a random effect, eliminated per photo: cap_by_spread): a photo's say on the shared identity
  * is then capped however many matches it has, and the clouds' own errors average out instead of
  * adding up (measured on nine frig synth subjects: docs/retarget.md).
+ * Each photo's weights are solved with the identity (eliminated by their Schur complement) under a
+ * ridge of retarget.identity_weights_ridge per match: nearly free weights keep whatever shape of
+ * the clouds a blendshape can make (a chin longer than the model's read as jawOpen in every photo)
+ * away from the shared identity (docs/retarget.md, "The weights' ridge in the identity fit").
  * Why: a point-to-surface deformation (Algorithm 7) can only move the surface along its normal;
  * where the fit from landmarks put the nose or the eyes a few millimetres off, the cloud cannot
  * say so, but the model's identity modes tie those positions to the surface's shape. Measured:
@@ -34,7 +38,6 @@
 #define ROWS_MAX 3000     /* matches used per photo and iteration */
 #define LD (ROWS_MAX + 3 * 68) /* rows of a photo's Jacobian: the matches, then its landmarks */
 #define SIGMA 1e-3        /* metres: the noise a match is weighed against */
-#define EXPRESSION_RIDGE 0.05 /* per row: a weight change of 1 costs (0.22 sigma)^2 on every row */
 #define RIGID_STEPS 1
 
 /* One photo's part of the joint normal equations of [identity step delta, weights e]:
@@ -222,7 +225,7 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
             cblas_dgemv(CblasColMajor, CblasTrans, rows, K, 1.0, Je, LD, r, 1, 0.0, q->v, 1);
             symmetrize(q->A, n_id);
             symmetrize(q->C, K);
-            for (int a = 0; a < K; a++) q->C[(size_t)a * K + a] += EXPRESSION_RIDGE * surface;
+            for (int a = 0; a < K; a++) q->C[(size_t)a * K + a] += s->weights_ridge * surface;
             q->rows = rows;
             q->surface = surface;
         }

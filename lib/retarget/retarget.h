@@ -36,6 +36,7 @@ typedef struct fr_rt_settings {
     double identity_spread;  /* variance of a cloud's own identity about the shared one (0: none) */
     double margin_weight;    /* weight of the margin's points (those from n_core on) */
     int mean_size;           /* 1: the identity step keeps the mean face's size (fit.mean_size) */
+    double weights_ridge;    /* the identity fit's ridge on each photo's weights, per match (squared 1 mm residuals) */
     int threads;
 } fr_rt_settings;
 

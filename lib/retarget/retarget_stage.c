@@ -52,6 +52,7 @@ void fr_rt_settings_from_ctx(const frig_ctx *ctx, fr_rt_settings *s) {
     s->identity_spread = fr_param(ctx, FRIG_PARAM_RETARGET_IDENTITY_SPREAD);
     s->margin_weight = fr_param(ctx, FRIG_PARAM_RETARGET_MARGIN_WEIGHT);
     s->mean_size = fr_param_int(ctx, FRIG_PARAM_FIT_MEAN_SIZE);
+    s->weights_ridge = fr_param(ctx, FRIG_PARAM_RETARGET_IDENTITY_WEIGHTS_RIDGE);
     s->max_correction = fr_param(ctx, FRIG_PARAM_RETARGET_MAX_CORRECTION_DEG) * M_PI / 180;
     s->max_rms = 1e-3 * fr_param(ctx, FRIG_PARAM_RETARGET_MAX_RMS_MM);
     s->threads = fr_threads(ctx);
