@@ -147,8 +147,13 @@ frig_status frig_retarget(frig_ctx *ctx, const frig_model *model, frig_photoset 
             start_from_sfs_identity(model, set, rig, n_id);
         int from_pixels = 0;
         for (int a = 0; a < n; a++) from_pixels += set->photos[ph[a].index].sfs_expression != NULL;
-        if (from_pixels == n)
+        if (from_pixels == n) {
             s = recenter_weights(ctx, fr_param(ctx, FRIG_PARAM_RETARGET_RECENTER), rig, K, fit_shape, ph, n);
+            /* the records now hold the weights on the moved neutral: another pass moves nothing again */
+            for (int a = 0; a < n && !s; a++)
+                for (int k = 0; k < set->n_expressions; k++)
+                    if (slot[k] >= 0) set->photos[ph[a].index].sfs_expression[k] = ph[a].w[slot[k]];
+        }
         if (!s) s = fr_rt_run(ctx, &st, model, rig, nf, K, fit_shape, n, ph, set->identity, n_id);
         /* used (or declined): the rig now is what the next clouds are drawn from */
         if (!s) s = fr_photoset_set_sfs_identity(ctx, set, NULL);
