@@ -43,3 +43,8 @@ uint64_t fr_sort_key_double(double v) {
     memcpy(&bits, &v, sizeof bits);
     return bits >> 63 ? ~bits : bits | (UINT64_C(1) << 63);
 }
+
+int fr_cmp_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}

@@ -21,4 +21,7 @@ int fr_sort_stable(fr_sort_item *a, size_t n);
  * (they compare equal). */
 uint64_t fr_sort_key_double(double v);
 
+/* qsort's comparison of two doubles, ascending (no NaNs). */
+int fr_cmp_double(const void *a, const void *b);
+
 #endif

@@ -4,6 +4,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/sort.h"
 #include "eval/albedo_error.h"
 #include "image/image.h"
 #include "image/srgb.h"
@@ -12,11 +13,6 @@
 #include "synth/synth.h"
 
 #define FACE 9409 /* the face region's vertices */
-
-static int cmp_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 /* The texture's linear colour at uv: its nearest texel, texel (x, y) at
  * uv = ((x + 0.5) / W, 1 - (y + 0.5) / H). */
@@ -53,7 +49,7 @@ static void score(const double *ours, const double *truth, int n, double *err, f
         sum += err[i];
         gross += err[i] > FR_ALBEDO_GROSS;
     }
-    qsort(err, (size_t)n, sizeof(double), cmp_double);
+    qsort(err, (size_t)n, sizeof(double), fr_cmp_double);
     out->vertices = n;
     out->mean = n ? sum / n : 0;
     out->p90 = n ? err[(n * 9) / 10] : 0;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/sort.h"
 #include "eval/cloud_error.h"
 #include "mesh/point_align.h"
 
@@ -49,11 +50,6 @@ frig_status fr_cloud_align(frig_ctx *ctx, const fr_tri_tree *tree, const double 
     return FRIG_OK;
 }
 
-static int cmp_d(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 void fr_error_stats(const double *v, int n, double *mean, double *median, double *p90) {
     *mean = *median = *p90 = NAN;
     if (n <= 0) return;
@@ -61,7 +57,7 @@ void fr_error_stats(const double *v, int n, double *mean, double *median, double
     if (!c) return;
     double sum = 0;
     for (int i = 0; i < n; i++) sum += c[i] = v[i];
-    qsort(c, (size_t)n, sizeof *c, cmp_d);
+    qsort(c, (size_t)n, sizeof *c, fr_cmp_double);
     *mean = sum / n;
     *median = c[n / 2];
     *p90 = c[(int)(0.9 * (n - 1))];

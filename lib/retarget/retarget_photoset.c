@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/sort.h"
 #include "frig/retarget.h"
 #include "model/model.h"
 #include "retarget/retarget.h"
@@ -53,11 +54,6 @@ static void start_from_sfs_identity(const frig_model *model, frig_photoset *set,
     }
 }
 
-static int by_value(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 /* A weight (nearly) every photo shows is the person's neutral, not an expression: the fit explains
  * a chin longer than the model's identity makes it by jawOpen in every photo, the sfs stage's
  * expression step, refining the weights against the pixels, keeps it, and the neutral fused under
@@ -74,7 +70,7 @@ static frig_status recenter_weights(frig_ctx *ctx, double quantile, frig_rig *ri
     size_t n3 = 3 * (size_t)rig->topo.vertex_count;
     for (int a = 0; a < K; a++) {
         for (int i = 0; i < n; i++) v[i] = ph[i].w[a];
-        qsort(v, (size_t)n, sizeof(double), by_value);
+        qsort(v, (size_t)n, sizeof(double), fr_cmp_double);
         double x = quantile * (n - 1);
         int lo = (int)floor(x);
         double q = lo + 1 < n ? v[lo] + (x - lo) * (v[lo + 1] - v[lo]) : v[lo];

@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/sort.h"
 #include "image/gaussian_blur.h"
 #include "linalg/linalg.h"
 #include "raster/rotation.h"
@@ -57,11 +58,6 @@ static double huber_rho(double u) {
 static double huber_w(double u) {
     double a = fabs(u);
     return a <= HUBER_K ? 1.0 : HUBER_K / a;
-}
-
-static int cmp_double(const void *x, const void *y) {
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
 }
 
 /* One level's problem. */
@@ -320,7 +316,7 @@ static void contour_targets(level *L, const double A[9], const double tc[3], dou
     }
     free(pref);
     if (!m) return;
-    qsort(scratch, (size_t)m, sizeof *scratch, cmp_double);
+    qsort(scratch, (size_t)m, sizeof *scratch, fr_cmp_double);
     double med = scratch[m / 2];
     for (int j = 0; j < L->nc; j++)
         L->cw[j] = med > 0 && L->cw[j] > 0.25 * med ? 1.0 : 0.0;

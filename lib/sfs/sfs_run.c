@@ -13,6 +13,7 @@
 
 #include "core/clock.h"
 #include "core/context.h"
+#include "core/sort.h"
 #include "image/colour_transfer.h"
 #include "linalg/linalg.h"
 #include "rig/rig.h"
@@ -27,11 +28,6 @@ static void log_lighting(frig_ctx *ctx, const fr_sfs_run *r, const char *when) {
         if (r->ok[k])
             fr_log(ctx, FRIG_LOG_DEBUG, "sfs: %s: photo %zu lighting DC %.3f %.3f %.3f, weight %.2f", when, r->photo[k],
                    r->views[k].sh[0][0], r->views[k].sh[1][0], r->views[k].sh[2][0], r->views[k].photo_weight);
-}
-
-static int cmp_double(const void *x, const void *y) {
-    double a = *(const double *)x, b = *(const double *)y;
-    return (a > b) - (a < b);
 }
 
 void fr_sfs_run_free(fr_sfs_run *r) {
@@ -255,7 +251,7 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
             if (r->ok[k]) sorted[m++] = a[k];
         }
         if (a && sorted && m) {
-            qsort(sorted, (size_t)m, sizeof *sorted, cmp_double);
+            qsort(sorted, (size_t)m, sizeof *sorted, fr_cmp_double);
             double med = sorted[m / 2] > 0.05 ? sorted[m / 2] : 0.05;
             for (int k = 0; k < r->n; k++) {
                 double q = a[k] > 0 ? a[k] / med : 0;

@@ -5,17 +5,13 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/sort.h"
 #include "skin/gmm.h"
 
 #define TWO_PI 6.283185307179586
 
-static int cmp_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static double median_of(double *v, int n) {
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    qsort(v, (size_t)n, sizeof *v, fr_cmp_double);
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
