@@ -299,8 +299,12 @@ static const param_row rows[] = {
      "outer rounds at most when the clouds cannot be recovered with the new rig (no sfs stage in the loop): later "
      "rounds only refit the poses, and with the same clouds they fit the clouds' noise again"},
     {FRIG_PARAM_RETARGET_IDENTITY_PRIOR, "retarget.identity_prior", 30, 0.01, 1e6, 0,
-     "weight of the model's prior N(0, I) on the identity fitted to the clouds, against matches weighed at 1 mm "
-     "each (s^2 weighs them at s mm)"},
+     "weight of the prior on the identity fitted to the clouds (the model's N(c, I), c set by "
+     "retarget.identity_prior_centre), against matches weighed at 1 mm each (s^2 weighs them at s mm)"},
+    {FRIG_PARAM_RETARGET_IDENTITY_PRIOR_CENTRE, "retarget.identity_prior_centre", 1, 0, 1, 0,
+     "the identity fit's prior is centred at this share of the identity the pass starts from: 1 the identity the sfs "
+     "stage drew the clouds at (which the fit's landmarks and the photos' pixels placed), so that the clouds move "
+     "it only where their surfaces show it wrong; 0 the mean face"},
     {FRIG_PARAM_RETARGET_MARGIN_WEIGHT, "retarget.margin_weight", 1, 0, 1, 0,
      "weight of each cloud's margin points (neck, ears, scalp: sfs.cloud_region 2) in the matches, against the "
      "cloud's own points (0: the margin unused)"},

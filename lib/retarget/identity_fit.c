@@ -4,8 +4,11 @@
  * rigidly and matched to the current reconstruction N + D w_i, the photo's expression weights
  * are solved (bounded, in [0, 1]), then one Gauss-Newton step moves the shared identity, N <-
  * N + U delta (U the model's identity modes, over the whole head, so everything the modes move
- * follows), with the model's prior N(0, I) on the identity weights, weighed retarget.identity_prior
- * times: the matches are weighed as if each were an independent 1 mm measurement, but a cloud's
+ * follows), with the model's prior N(c, I) on the identity weights, weighed retarget.identity_prior
+ * times, c the identity the fit starts from times retarget.identity_prior_centre (1 by default: the
+ * identity the sfs stage drew the clouds at, so that where the clouds cannot say, such as the features'
+ * places along the surface, the identity stays where the landmarks and the pixels put it rather than
+ * sliding to the mean face's; measured: docs/retarget.md): the matches are weighed as if each were an independent 1 mm measurement, but a cloud's
  * errors (sfs's, the pose's) are smooth and shared by its neighbouring points, so thousands of
  * matches per photo outweigh the prior far more than they should (measured: docs/retarget.md).
  * So each cloud may show an identity of its own, N(0, retarget.identity_spread I) about the shared
@@ -178,6 +181,9 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
                          ? FRIG_OK
                          : fr_nomem(ctx, "the identity fit");
     if (!st && size_grad) st = fr_face_size_gradient(ctx, model, n_id, size_grad);
+    double *centre = calloc((size_t)n_id, sizeof(double)); /* the prior's centre */
+    if (!centre && !st) st = fr_nomem(ctx, "the identity fit");
+    for (int a = 0; a < n_id && centre; a++) centre[a] = s->prior_centre * identity[a];
     int most = 0;
     for (int i = 0; i < n; i++) most = photos[i].n_pick > most ? photos[i].n_pick : most;
     if (!trees && !st) st = fr_nomem(ctx, "the identity fit");
@@ -276,7 +282,7 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
         symmetrize(S, n_id); /* (rounding) */
         for (int a = 0; a < n_id; a++) {
             S[(size_t)a * n_id + a] += s->identity_prior;
-            g[a] -= s->identity_prior * identity[a];
+            g[a] -= s->identity_prior * (identity[a] - centre[a]);
         }
         /* identity += step; with the size held (model/face_size.h), g . (identity + step) = 0 */
         st = size_grad ? fr_solve_size_held(ctx, n_id, S, g, size_grad, -fr_face_size_change(size_grad, identity, n_id))
@@ -313,6 +319,6 @@ frig_status fr_rt_fit_identity(frig_ctx *ctx, const fr_rt_settings *s, const fri
     for (int t = 0; mt && t < threads; t++) free(mt[t]);
     for (int t = 0; trees && t < threads; t++) fr_tri_tree_free(trees[t]);
     free(trees);
-    free(work), free(cur), free(mt), free(pp), free(store), free(S), free(B), free(size_grad);
+    free(work), free(cur), free(mt), free(pp), free(store), free(S), free(B), free(size_grad), free(centre);
     return st;
 }

@@ -32,7 +32,8 @@ typedef struct fr_rt_settings {
     double max_rms;          /* metres: a cloud whose points stay farther (RMS) is not used */
     int transfer_gradients;  /* E_t's target: 1 deformation transfer, 0 the template's deltas */
     int anchor_frame;        /* 1: the rig is moved back rigidly to its frame after the pass */
-    double identity_prior;   /* weight of the identity's prior N(0, I) against the clouds (1: matches at 1 mm) */
+    double identity_prior;   /* weight of the identity's prior N(c, I) against the clouds (1: matches at 1 mm) */
+    double prior_centre;     /* c: this share of the identity the pass starts from (0: the mean face) */
     double identity_spread;  /* variance of a cloud's own identity about the shared one (0: none) */
     double margin_weight;    /* weight of the margin's points (those from n_core on) */
     int mean_size;           /* 1: the identity step keeps the mean face's size (fit.mean_size) */

@@ -49,6 +49,7 @@ void fr_rt_settings_from_ctx(const frig_ctx *ctx, fr_rt_settings *s) {
     s->transfer_gradients = fr_param_int(ctx, FRIG_PARAM_RETARGET_TRANSFER);
     s->anchor_frame = fr_param_int(ctx, FRIG_PARAM_RETARGET_ANCHOR_FRAME);
     s->identity_prior = fr_param(ctx, FRIG_PARAM_RETARGET_IDENTITY_PRIOR);
+    s->prior_centre = fr_param(ctx, FRIG_PARAM_RETARGET_IDENTITY_PRIOR_CENTRE);
     s->identity_spread = fr_param(ctx, FRIG_PARAM_RETARGET_IDENTITY_SPREAD);
     s->margin_weight = fr_param(ctx, FRIG_PARAM_RETARGET_MARGIN_WEIGHT);
     s->mean_size = fr_param_int(ctx, FRIG_PARAM_FIT_MEAN_SIZE);
