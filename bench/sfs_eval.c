@@ -30,7 +30,8 @@
  * distance to the true face (not vertex to vertex: what a displacement along the normals can
  * fix), by height band and by facing;
  * --identity MODEL solves the first --identity-modes N (default 40) identity modes of MODEL with the
- * shared displacement, their weights held by --identity-prior W (default 1) times |fit's + change|^2;
+ * shared displacement, their weights held by --identity-prior W (default sfs.identity_prior) times
+ * |(1 - sfs.identity_prior_centre) fit's + change|^2;
  * the neutral's measures are then of the rig with the identity change and the displacement;
  * --write-fits saves the workspace's report with the truth's poses (--truth-pose) and weights
  * (--truth-weights) in place of the fit's and runs nothing else (then frig sfs on it).
@@ -244,7 +245,7 @@ int main(int argc, char **argv) {
     const char *in_span_model = NULL, *dump_neutral = NULL, *dump_errors = NULL;
     int truth_neutral = 0, write_fits = 0, id_modes = 40;
     const char *id_model = NULL;
-    double id_prior = 1.0;
+    double id_prior = -1; /* -1: sfs.identity_prior */
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--set") && i + 1 < argc) {
             if (bench_set_param(ctx, argv[++i])) return 2;
@@ -312,12 +313,12 @@ int main(int argc, char **argv) {
         }
         st.identity_modes = idm->identity;
         st.identity_count = id_modes < idm->identity_count ? id_modes : idm->identity_count;
-        st.identity_prior = id_prior;
+        if (id_prior >= 0) st.identity_prior = id_prior;
         id_start = calloc((size_t)st.identity_count + 1, sizeof(double));
         for (int k = 0; k < st.identity_count && k < set->n_identity && set->identity; k++) id_start[k] = set->identity[k];
         st.identity_start = id_start;
-        printf("identity: %d modes, prior %g, from the fit's identity (%d weights in the workspace)\n", st.identity_count,
-               id_prior, set->n_identity);
+        printf("identity: %d modes, prior %g centred at %g times the fit's identity (%d weights in the workspace)\n",
+               st.identity_count, st.identity_prior, st.identity_centre, set->n_identity);
     }
     uint8_t *oracle = NULL;
     if (oracle_deg > 0) {

@@ -887,8 +887,9 @@ static void test_identity(void) {
     fr_sfs_settings_identity(ctx, &st, model, sc.set); /* sfs.identity_modes: 40 by default */
     st.joint_min_photos = 0, st.pose_levels = 0, st.expression_steps = 0, st.pose_steps = 0; /* the true poses, expressions */
     st.joint_light = 1;
-    /* seven photos of 256 pixels: the prior must be stronger than the default's (measured: 3.260 -> 3.728 mm
-     * at 1, 3.203 at 100, 2.823 at 1000; docs/sfs.md) */
+    /* seven photos of 256 pixels: the prior must be stronger than the default's (measured with the prior at
+     * the mean face: 3.260 -> 3.728 mm at 1, 3.203 at 100, 2.823 at 1000; docs/sfs.md; at the fit's identity,
+     * sfs.identity_prior_centre 1, 2.859 at 1000) */
     st.identity_prior = 1000;
     CHECK(st.identity_count == 40);
     fr_sfs_run run;

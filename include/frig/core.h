@@ -206,9 +206,10 @@ typedef enum frig_param {
                                                the cloud's margin (default); 1 the narrow face only; 0 all in the cloud */
     FRIG_PARAM_SFS_IDENTITY_MODES = 632,    /* the model's first N identity modes solved with the shared shape, with
                                                frig_sfs_with_model (default 40; 0 off) */
-    FRIG_PARAM_SFS_IDENTITY_PRIOR = 633,    /* weight of their prior N(0, I) in the shared solve's energy (default 1) */
+    FRIG_PARAM_SFS_IDENTITY_PRIOR = 633,    /* weight of their prior N(c, I) in the shared solve's energy (default 30) */
     FRIG_PARAM_SFS_JOINT_LIGHT = 634,       /* the photos' lights closer to one axis on the face than this: the
                                              * light shared solve (default 0.95; 1: never; docs/sfs.md) */
+    FRIG_PARAM_SFS_IDENTITY_PRIOR_CENTRE = 635, /* c: this share of the fit's identity (default 1; 0: the mean face) */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

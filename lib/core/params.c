@@ -201,8 +201,13 @@ static const param_row rows[] = {
     {FRIG_PARAM_SFS_IDENTITY_MODES, "sfs.identity_modes", 40, 0, 1000, 1,
      "the model's first N identity modes solved with the shared shape from the fit's identity, so that the face may "
      "move along its surface as well as across it (frig_sfs_with_model; frig sfs --model; 0 off)"},
-    {FRIG_PARAM_SFS_IDENTITY_PRIOR, "sfs.identity_prior", 1, 0, 1e9, 0,
-     "weight of the identity weights' prior |w|^2 (standard deviations) against the shared solve's robust energy"},
+    {FRIG_PARAM_SFS_IDENTITY_PRIOR, "sfs.identity_prior", 30, 0, 1e9, 0,
+     "weight of the identity weights' prior |w - c|^2 (standard deviations; c set by sfs.identity_prior_centre) "
+     "against the shared solve's robust energy"},
+    {FRIG_PARAM_SFS_IDENTITY_PRIOR_CENTRE, "sfs.identity_prior_centre", 1, 0, 1, 0,
+     "the shared solve's identity prior is centred at this share of the fit's identity: 1 the fit's (its landmarks "
+     "and outlines placed the face's features along the surface, which shading and stereo cannot see), 0 the "
+     "mean face"},
     {FRIG_PARAM_SFS_JOINT_LIGHT, "sfs.joint_light", 0.95, 0, 1, 0,
      "when the photos' lights, turned into the head's frame, are closer to one axis than this (the largest "
      "eigenvalue of the mean outer product of their directions; 1 = one axis, as frames of a video under one "

@@ -51,11 +51,12 @@ typedef struct fr_sfs_settings {
     const uint8_t *shape_use; /* per photo of the set: used by the shared shape (NULL: every usable photo) */
     /* the model's identity modes solved with the shared shape (NULL / 0: off; set by the caller, not a
      * parameter): identity_count modes of 3 nv floats each (standard deviations), the weights' prior
-     * identity_prior |identity_start + change|^2 in the shared solve's energy units (identity_start: the
-     * fitted identity's first identity_count weights, NULL for zeros) */
+     * identity_prior |(1 - identity_centre) identity_start + change|^2 in the shared solve's energy units
+     * (identity_start: the fitted identity's first identity_count weights, NULL for zeros) */
     const float *identity_modes;
     int identity_count;
     double identity_prior;
+    double identity_centre;
     const double *identity_start;
 } fr_sfs_settings;
 

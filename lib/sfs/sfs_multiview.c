@@ -26,7 +26,9 @@
  * With a model (o->id_count > 0: sfs.identity_modes, 40 by default through frig_sfs_with_model; docs/sfs.md,
  * "The identity's modes in the shared solve") the model's first identity modes are unknowns too: the
  * surface is P_k(t) = X_k(t) + U(t) (beta - beta_s) + D(t) n_k(t), U the modes at the texel, the same
- * change in every expression, held by id_prior |fit's weights + beta|^2. Each texel's terms are also
+ * change in every expression, held by id_prior |(1 - c) fit's weights + beta|^2 (c =
+ * sfs.identity_prior_centre, 1 by default: the prior centred at the fit's identity, whose landmarks and
+ * outlines placed the features along the surface, where shading and stereo cannot see; docs/sfs.md). Each texel's terms are also
  * kept by its stencil points' head-frame positions (15 x 15, the albedo eliminated from them too), so
  * that the identity's M x M block is sum_t U^T A_t U and its coupling to D sparse x dense; the step
  * solves the damped D block for the coupling's M columns and the rhs, then the identity's Schur
@@ -79,7 +81,7 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
     o->expression_steps = 0;
     o->expression_prior = 0.3;
     o->expression_sparse = 0.3;
-    o->id_modes = NULL, o->id_count = 0, o->id_prior = 1.0, o->id_start = NULL, o->id_change = NULL;
+    o->id_modes = NULL, o->id_count = 0, o->id_prior = 1.0, o->id_centre = 0, o->id_start = NULL, o->id_change = NULL;
 }
 
 /* One photo's view of the texels: the rig's texel points and normals at its expression, and
@@ -513,11 +515,17 @@ static void ident_offsets(const mv *s, const double *b, const double *base, doub
     }
 }
 
+/* Where the identity prior's centre leaves the start, in mode m: the prior holds start + change at
+ * id_centre times the start, that is (1 - id_centre) start + change at 0. */
+static double prior_offset(const fr_sfs_multiview_options *o, int m) {
+    return o->id_start ? (1.0 - o->id_centre) * o->id_start[m] : 0;
+}
+
 /* The identity prior's energy at change b. */
 static double ident_prior(const mv *s, const double *b) {
     double e = 0;
     for (int m = 0; m < s->M; m++) {
-        double x = (s->o->id_start ? s->o->id_start[m] : 0) + b[m];
+        double x = prior_offset(s->o, m) + b[m];
         e += x * x;
     }
     return s->o->id_prior * e;
@@ -694,7 +702,7 @@ static void assemble_ident(mv *s) {
         }
     for (int m = 0; m < M; m++) {
         s->Hbb[(size_t)M * m + m] += 2 * s->o->id_prior;
-        s->gb[m] += 2 * s->o->id_prior * ((s->o->id_start ? s->o->id_start[m] : 0) + s->beta[m]);
+        s->gb[m] += 2 * s->o->id_prior * (prior_offset(s->o, m) + s->beta[m]);
     }
     free(Vr), free(Wr);
 }

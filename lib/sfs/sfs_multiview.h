@@ -26,12 +26,14 @@ typedef struct fr_sfs_multiview_options {
     double expression_prior;  /* held to the weights the views start with (the fit's) */
     double expression_sparse; /* L1 on the weights */
     /* the model's identity modes solved with the displacement (id_count 0: off): id_count modes of 3 nv
-     * floats (the mesh's vertices), the change c of the identity weights held by id_prior |id_start + c|^2
-     * (id_start NULL: zeros); the change is written to the mesh's ident (which must be allocated) and,
+     * floats (the mesh's vertices), the change c of the identity weights held by id_prior
+     * |(1 - id_centre) id_start + c|^2 (id_start NULL: zeros; id_centre 1: the prior centred at the start);
+     * the change is written to the mesh's ident (which must be allocated) and,
      * when id_change is given, its weights there (id_count) */
     const float *id_modes;
     int id_count;
     double id_prior;
+    double id_centre;
     const double *id_start;
     double *id_change;
 } fr_sfs_multiview_options;
