@@ -274,7 +274,7 @@ static void check_sfs_identity(frig_ctx *ctx, const frig_model *model, const fri
     printf("started from the clouds' identity (here the truth's): neutral %.3f mm (off: %.3f, the plain pass %.3f; "
            "the prior centred at the mean face: %.3f)\n",
            err[1], err[0], plain_mm, err[2]);
-    /* measured: 1.924 (off 2.187; centred at the mean face 2.045, as before the setting) */
+    /* measured: 1.867 (off 2.197; centred at the mean face 2.118, as before the setting) */
     CHECK(err[1] < err[0] - 0.05);
     CHECK(err[1] < err[2] - 0.05);
 }
@@ -377,14 +377,17 @@ int main(void) {
            before, after, wa_before, wa_after, wi_before, wi_after, inliers, rms);
     /* Floors from measurements: neutral 4.15 -> 2.39 mm (2.93 before the clouds' spread, five
      * identity steps and retarget.smooth_mm 20; 2.16 before retarget.identity_weights_ridge 0.5,
-     * 2.19 since); weights 0.61 -> 0.38 and 0 -> 0.014 (0.35 and 0.009 before the ridge, 0.51 and
-     * 0.002 since: the identity fit holds each photo's weights nearer where they start, here 0, the
-     * set's fits having no expression; in the pipeline they start at the sfs stage's). */
+     * 2.19 since, 2.20 at retarget.identity_prior 60); weights 0.61 -> 0.38 and 0 -> 0.014 (0.35
+     * and 0.009 before the ridge, 0.51 and 0.002 since: the identity fit holds each photo's weights
+     * nearer where they start, here 0, the set's fits having no expression; in the pipeline they
+     * start at the sfs stage's). */
     CHECK(after < 2.6);
     CHECK(after < 0.8 * before);
     CHECK(wa_after < 0.55 && wa_after < 0.85 * wa_before);
     CHECK(wi_after < 0.03);
-    CHECK(inliers > 1000 && rms < 1.0);
+    /* photo 0's matches: RMS 0.97 mm at retarget.identity_prior 30, 1.03 at 60 (a stronger prior fits the
+     * clouds less closely) */
+    CHECK(inliers > 1000 && rms < 1.1);
 
     check_exported_collisions(ctx, model, start, rig);
     check_spread(ctx, model, subj, start);

@@ -254,7 +254,7 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_MAX_CORRECTION_DEG = 724, /* a cloud needing a larger turn is not used (default 15) */
     FRIG_PARAM_RETARGET_MAX_RMS_MM = 725,        /* a cloud the mesh cannot follow closer is not used (default 1.5) */
     FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS = 726, /* rounds at most when the clouds cannot be recovered (default 1) */
-    FRIG_PARAM_RETARGET_IDENTITY_PRIOR = 727,    /* weight of the identity's prior in the identity from the clouds (default 30) */
+    FRIG_PARAM_RETARGET_IDENTITY_PRIOR = 727,    /* weight of the identity's prior in the identity from the clouds (default 60) */
     FRIG_PARAM_RETARGET_SFS_ITERATIONS = 728,    /* each photo's depth iterations when the loop recovers the clouds (default 2) */
     FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS = 729, /* the shared shape's iterations per round in the loop's recovery (0: sfs's) */
     FRIG_PARAM_RETARGET_LOOP_IDENTITY_ITERATIONS = 730, /* retarget.identity_iterations in the outer rounds after the first */

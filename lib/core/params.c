@@ -303,7 +303,7 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_FIXED_CLOUD_ROUNDS, "retarget.fixed_cloud_rounds", 1, 1, 20, 1,
      "outer rounds at most when the clouds cannot be recovered with the new rig (no sfs stage in the loop): later "
      "rounds only refit the poses, and with the same clouds they fit the clouds' noise again"},
-    {FRIG_PARAM_RETARGET_IDENTITY_PRIOR, "retarget.identity_prior", 30, 0.01, 1e6, 0,
+    {FRIG_PARAM_RETARGET_IDENTITY_PRIOR, "retarget.identity_prior", 60, 0.01, 1e6, 0,
      "weight of the prior on the identity fitted to the clouds (the model's N(c, I), c set by "
      "retarget.identity_prior_centre), against matches weighed at 1 mm each (s^2 weighs them at s mm)"},
     {FRIG_PARAM_RETARGET_IDENTITY_PRIOR_CENTRE, "retarget.identity_prior_centre", 1, 0, 1, 0,
