@@ -8,9 +8,10 @@
  * times, c the identity the fit starts from times retarget.identity_prior_centre (1 by default: the
  * identity the sfs stage drew the clouds at, so that where the clouds cannot say, such as the features'
  * places along the surface, the identity stays where the landmarks and the pixels put it rather than
- * sliding to the mean face's; measured: docs/retarget.md): the matches are weighed as if each were an independent 1 mm measurement, but a cloud's
- * errors (sfs's, the pose's) are smooth and shared by its neighbouring points, so thousands of
- * matches per photo outweigh the prior far more than they should (measured: docs/retarget.md).
+ * sliding to the mean face's; measured: docs/retarget.md): the matches are weighed as if each
+ * were an independent 1 mm measurement, but a cloud's errors (sfs's, the pose's) are smooth and
+ * shared by its neighbouring points, so thousands of matches per photo outweigh the prior far more
+ * than they should (measured: docs/retarget.md).
  * So each cloud may show an identity of its own, N(0, retarget.identity_spread I) about the shared
  * one (a random effect, eliminated per photo: cap_by_spread): a photo's say on the shared identity
  * is then capped however many matches it has, and the clouds' own errors average out instead of
