@@ -28,13 +28,13 @@
  * surface is P_k(t) = X_k(t) + U(t) (beta - beta_s) + D(t) n_k(t), U the modes at the texel, the same
  * change in every expression, held by id_prior |(1 - c) fit's weights + beta|^2 (c =
  * sfs.identity_prior_centre, 1 by default: the prior centred at the fit's identity, whose landmarks and
- * outlines placed the features along the surface, where shading and stereo cannot see; docs/sfs.md). Each texel's terms are also
- * kept by its stencil points' head-frame positions (15 x 15, the albedo eliminated from them too), so
- * that the identity's M x M block is sum_t U^T A_t U and its coupling to D sparse x dense; the step
- * solves the damped D block for the coupling's M columns and the rhs, then the identity's Schur
- * complement. After each round the change is baked into the rig (the mesh's ident: every view, the
- * registration, the reference and the depth draw it), the photos' texel geometry and views drawn
- * again, beta_s = beta. */
+ * outlines placed the features along the surface, where shading and stereo cannot see; docs/sfs.md).
+ * Each texel's terms are also kept by its stencil points' head-frame positions (15 x 15, the albedo
+ * eliminated from them too), so that the identity's M x M block is sum_t U^T A_t U and its coupling to D
+ * sparse x dense; the step solves the damped D block for the coupling's M columns and the rhs, then the
+ * identity's Schur complement. After each round the change is baked into the rig (the mesh's ident: every
+ * view, the registration, the reference and the depth draw it), the photos' texel geometry and views
+ * drawn again, beta_s = beta. */
 #include <cblas.h>
 #undef I /* complex.h's, through cblas.h: the views' images are I here */
 #include <math.h>
