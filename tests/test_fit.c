@@ -13,6 +13,7 @@
 #include "fit/photo_fit.h"
 #include "fit/progressive_fit.h"
 #include "fit/outline_fit.h"
+#include "fit/landmark_vertices.h"
 #include "frig/synth.h"
 #include "model_fixture.h"
 #include "raster/rotation.h"
@@ -347,6 +348,36 @@ static void test_face_scale(void) {
     CHECK_NEAR(fr_fit_face_scale(q), 33.5, 1e-9);
 }
 
+/* The fit's landmark vertices (fit/landmark_vertices.c): with fit.landmark_vertices 1, on
+ * ICT-FaceKit's model the nostrils (31-35) and the mouth (48-67) are moved, each by less than
+ * 10 mm on the mean face, and the rest are the model's own; 0 (the default) gives the model's
+ * own throughout. */
+static void test_landmark_vertices(frig_ctx *ctx, const frig_model *m) {
+    const int32_t *own = frig_model_landmarks(m);
+    const float *mean = frig_model_neutral(m);
+    int32_t lv[68];
+    CHECK(frig_ctx_get_param(ctx, FRIG_PARAM_FIT_LANDMARK_VERTICES) == 0);
+    frig_ctx_set_param(ctx, FRIG_PARAM_FIT_LANDMARK_VERTICES, 1);
+    fr_fit_landmark_vertices(ctx, m, lv);
+    int moved = 0;
+    double farthest = 0;
+    for (int k = 0; k < 68; k++) {
+        int may_move = (k >= 31 && k <= 35) || k >= 48;
+        if (lv[k] == own[k]) continue;
+        CHECK(may_move);
+        moved++;
+        double d2 = 0;
+        for (int a = 0; a < 3; a++)
+            d2 += (mean[3 * lv[k] + a] - mean[3 * own[k] + a]) * (mean[3 * lv[k] + a] - mean[3 * own[k] + a]);
+        farthest = fmax(farthest, 1e3 * sqrt(d2));
+    }
+    CHECK(moved >= 20);
+    CHECK(farthest > 1.0 && farthest < 10.0);
+    frig_ctx_set_param(ctx, FRIG_PARAM_FIT_LANDMARK_VERTICES, 0);
+    fr_fit_landmark_vertices(ctx, m, lv);
+    CHECK(memcmp(lv, own, sizeof lv) == 0);
+}
+
 int main(void) {
     test_face_scale();
     frig_ctx *ctx = frig_ctx_create();
@@ -354,6 +385,7 @@ int main(void) {
     if (!m) return test_skip("the ICT-FaceKit model (../shared/ict-facekit) is not available");
     frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_IMAGE_SIZE, SIZE);
     frig_ctx_set_param(ctx, FRIG_PARAM_SYNTH_MAX_YAW, 50);
+    test_landmark_vertices(ctx, m);
     test_schemes(ctx, m);
     test_photoset(ctx, m);
     test_outline(ctx, m);

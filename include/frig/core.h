@@ -160,6 +160,7 @@ typedef enum frig_param {
     FRIG_PARAM_FIT_OUTLINE_ITERATIONS = 451, /* steps of identity and poses from the photos' outlines (default 16; 0: off) */
     FRIG_PARAM_FIT_OUTLINE_PRIOR = 452,      /* the identity's prior against an outline pixel's error (default 30) */
     FRIG_PARAM_FIT_W_FOCAL = 453,            /* prior log(f / f0)^2 of the focal length (default 10) */
+    FRIG_PARAM_FIT_LANDMARK_VERTICES = 454,  /* 1: ICT's nostrils and mouth at the vertices where the detector puts them (default 0: the model's own) */
 
     /* synthetic ground truth */
     FRIG_PARAM_SYNTH_MAX_YAW = 500,         /* degrees (default 60) */

@@ -106,6 +106,9 @@ static const param_row rows[] = {
      "weight of the identity's prior N(0, I) in the outline steps, against one outline pixel's error of a pixel"},
     {FRIG_PARAM_FIT_W_FOCAL, "fit.w_focal", 10, 0, 1e9, 0,
      "weight of the focal length's prior log(f / f0)^2 (f0: 1.4 times the photo's longer side, a 50 mm lens)"},
+    {FRIG_PARAM_FIT_LANDMARK_VERTICES, "fit.landmark_vertices", 0, 0, 1, 1,
+     "1: with ICT-FaceKit's model, the nostrils' wings and the mouth (iBUG 31-35, 48-67) are matched to the vertices "
+     "where the landmark detector puts them (measured on synthetic photos, docs/fit.md); 0: to the model's own"},
 
     {FRIG_PARAM_SYNTH_MAX_YAW, "synth.max_yaw", 60, 0, 90, 0, "largest head yaw of synthetic photos, degrees"},
     {FRIG_PARAM_SYNTH_OFFSET_MM, "synth.offset_mm", 4, 0, 50, 0,

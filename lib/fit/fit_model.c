@@ -10,6 +10,7 @@
 #include "core/context.h"
 #include "model/face_size.h"
 #include "fit/fit_model.h"
+#include "fit/landmark_vertices.h"
 
 /* The silhouette band: narrow-face vertices between the chin and the eyes, away from the
  * nose (metres, model space: y up, face looking along +z). */
@@ -199,8 +200,9 @@ frig_status fr_fit_model_build(frig_ctx *ctx, const frig_model *model, int n_id,
     for (int v = 0; v < nv; v++) map.of_vertex[v] = -1;
     frig_status s = FRIG_OK;
     const int32_t *lm = frig_model_landmarks(model);
+    fr_fit_landmark_vertices(ctx, model, fm->landmark_vertex);
     for (int k = 0; k < FR_LANDMARKS && !s; k++)
-        if ((fm->landmark_slot[k] = slot_add(&map, lm[k])) < 0) s = fr_nomem(ctx, "the fit model");
+        if ((fm->landmark_slot[k] = slot_add(&map, fm->landmark_vertex[k])) < 0) s = fr_nomem(ctx, "the fit model");
 
     /* Band limits from the neutral's landmarks: chin (8) and the eyes' lower lids (41, 46). */
     const float *neutral = frig_model_neutral(model);

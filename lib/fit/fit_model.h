@@ -5,6 +5,8 @@
 #ifndef FR_FIT_FIT_MODEL_H
 #define FR_FIT_FIT_MODEL_H
 
+#include <stdint.h>
+
 #include "frig/model.h"
 #include "frig/rig.h"
 
@@ -25,6 +27,7 @@ typedef struct fr_fit_model {
     double *mean;     /* 3 per slot: the neutral */
     double *basis;    /* (3 n_slots) x n_cols, row-major: identity modes, then expressions */
 
+    int32_t landmark_vertex[FR_LANDMARKS]; /* the model vertex of each iBUG landmark (fit/landmark_vertices.h) */
     int landmark_slot[FR_LANDMARKS];   /* default slot of each iBUG landmark */
     /* Silhouette rows: jaw landmark k (iBUG 0..16, not the chin 8) may move to a vertex of
      * row k, the jawline and cheek vertices whose angle around the face centre (model x-y

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "fit/landmark_vertices.h"
 #include "frig/fit.h"
 #include "image/image.h"
 #include "io/file.h"
@@ -80,7 +81,8 @@ static frig_status draw_one(frig_ctx *ctx, const frig_model *m, const frig_photo
         if (!s && f)
             for (int k = 0; k < FRIG_LANDMARK_COUNT; k++)
                 fr_draw_disc(img, f->landmarks[2 * k], f->landmarks[2 * k + 1], rad, green, 1);
-        const int32_t *lm = frig_model_landmarks(m);
+        int32_t lm[FRIG_LANDMARK_COUNT];
+        fr_fit_landmark_vertices(ctx, m, lm);
         for (int k = 0; !s && k < FRIG_LANDMARK_COUNT; k++) {
             double uv[2];
             fr_project_points(&cam, p->fit_rotation, p->fit_translation, xyz + 3 * (size_t)lm[k], 1, uv, NULL);

@@ -238,12 +238,12 @@ static void fill_row(const float *Ut, int n, const double R[9], const int32_t *t
     row[n + 3] = jn[0], row[n + 4] = jn[1], row[n + 5] = jn[2];
 }
 
-/* The inner landmarks' rows (iBUG 17-67 at the model's landmark vertices), x and y each, in crop
+/* The inner landmarks' rows (iBUG 17-67 at the fit's landmark vertices), x and y each, in crop
  * pixels, weighed 1 / LANDMARK_PX^2 (Huber at LANDMARK_PX). */
-static void landmark_rows(const frig_model *model, const float *Ut, int n, const view *v, const fr_fit_result *res,
+static void landmark_rows(const fr_fit_model *fm, const float *Ut, int n, const view *v, const fr_fit_result *res,
                           const double *landmarks, const float *cam, const double centre[3], double *row, part *pa) {
-    for (int l = FIRST_INNER; l < 68 && l < model->landmark_count; l++) {
-        int vtx = model->landmarks[l];
+    for (int l = FIRST_INNER; l < 68 && l < fm->model->landmark_count; l++) {
+        int vtx = fm->landmark_vertex[l];
         double X[3] = {cam[3 * (size_t)vtx], cam[3 * (size_t)vtx + 1], cam[3 * (size_t)vtx + 2]}, uv[2], J[6];
         if (!fr_camera_project(&v->cam, X, uv)) continue;
         fr_camera_project_jacobian(&v->cam, X, J);
@@ -322,7 +322,7 @@ static frig_status photo_part(frig_ctx *ctx, const fr_fit_model *fm, const float
             add_row(pa, n, row, wt, rr);
             pa->rss += rr * rr, pa->pairs++;
         }
-    if (landmarks && pa->pairs) landmark_rows(model, Ut, n, v, res, landmarks, cam, centre, row, pa);
+    if (landmarks && pa->pairs) landmark_rows(fm, Ut, n, v, res, landmarks, cam, centre, row, pa);
     for (int a = 0; a < n; a++)
         for (int c = 0; c < a; c++) pa->A[(size_t)a * n + c] = pa->A[(size_t)c * n + a];
     fr_raster_free(r);
