@@ -1,10 +1,10 @@
-/* The head's size is not in the photos (docs/fit.md, "The head's size"): a head
- * s times larger and s times farther away makes the same picture, so landmarks
- * fix the face's proportions but not its scale, and what the joint identity fit
- * (section 4.4, eq. 4.9) puts into the size is the landmarks' bias (measured on
- * frig synth subjects: the fitted face 0.94-0.995 times the true size, always
- * smaller). The size is held at the model's mean instead, as a linear
- * constraint on the identity step. */
+/* The head's size (docs/fit.md, "The head's size"): a head s times larger and s
+ * times farther away makes the same picture, so the photos show the face's
+ * proportions, not its scale, but the model ties the two (its modes scale a face
+ * only together with a change of shape). With fit.mean_size 1 the size is held at
+ * the model's mean, as a linear constraint on the identity step; by default (0)
+ * the identity's own size is kept (measured on seventeen frig synth subjects: the
+ * free sizes follow the truth's, correlation 0.82, 2% small on average). */
 #include <stdlib.h>
 #include <string.h>
 
