@@ -4,7 +4,7 @@
  * only together with a change of shape). With fit.mean_size 1 (the default) the
  * size is held at the model's mean, as a linear constraint on the identity step;
  * with 0 the identity's own size is kept (on seventeen frig synth subjects the free
- * sizes follow the truth's, correlation 0.8, but on frontal videos they come out
+ * sizes follow the truth's, correlation 0.8, but on two real videos they come out
  * 15-20% small). */
 #include <stdlib.h>
 #include <string.h>
