@@ -152,7 +152,7 @@ static void test_fit_holds_size(frig_ctx *ctx, const frig_model *m) {
     }
     fr_fit_settings st;
     fr_fit_settings_from_ctx(ctx, &st);
-    CHECK(st.mean_size == 1); /* the default */
+    CHECK(st.mean_size == 0); /* the default */
     double *w = calloc((size_t)PHOTOS * fm.n_cols, sizeof(double)), identity[100], ratio[2];
     fr_fit_result res[PHOTOS];
     for (int held = 1; held >= 0 && w; held--) {

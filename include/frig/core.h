@@ -156,7 +156,7 @@ typedef enum frig_param {
     FRIG_PARAM_FIT_PERSPECTIVE = 410,       /* 1: perspective camera, 0: weak perspective (default 1) */
     FRIG_PARAM_FIT_CONTOUR_WEIGHT = 411,    /* weight of the jaw landmarks 0-16 (default 0.25) */
     FRIG_PARAM_FIT_JOINT_PRIOR = 412,       /* joint identity prior = this x the subset centroid (default 0: the model mean) */
-    FRIG_PARAM_FIT_MEAN_SIZE = 450,         /* 1: fit's and retarget's identity keep the mean face's size (default 1; 0: the identity's own; docs/fit.md) */
+    FRIG_PARAM_FIT_MEAN_SIZE = 450,         /* 1: fit's and retarget's identity keep the mean face's size (default 0: the identity's own; docs/fit.md) */
     FRIG_PARAM_FIT_OUTLINE_ITERATIONS = 451, /* steps of identity and poses from the photos' outlines (default 16; 0: off) */
     FRIG_PARAM_FIT_OUTLINE_PRIOR = 452,      /* the identity's prior against an outline pixel's error (default 30) */
     FRIG_PARAM_FIT_W_FOCAL = 453,            /* prior log(f / f0)^2 of the focal length (default 10) */

@@ -97,10 +97,10 @@ static const param_row rows[] = {
      "weight of the jaw landmarks 0-16 (a detector's jaw points err twice as much as the others)"},
     {FRIG_PARAM_FIT_JOINT_PRIOR, "fit.joint_prior", 0, 0, 1, 0,
      "joint identity prior: this fraction of the selected photos' mean identity (1: the paper; 0: the model mean)"},
-    {FRIG_PARAM_FIT_MEAN_SIZE, "fit.mean_size", 1, 0, 1, 1,
-     "1: the identity keeps the mean face's size, in the fit's joint identity and retarget's identity from the clouds; "
-     "0: the size is the identity's (the model ties a head's size to its shape: follows synthetic subjects' true size, "
-     "but 15-20% small on two real videos; docs/fit.md \"The head's size\")"},
+    {FRIG_PARAM_FIT_MEAN_SIZE, "fit.mean_size", 0, 0, 1, 1,
+     "0: the size is the identity's (the model ties a head's size to its shape, which the outlines of the lower "
+     "face fix: follows synthetic subjects' true size); 1: the identity keeps the mean face's size, in the fit's "
+     "joint identity and retarget's identity from the clouds (docs/fit.md \"The head's size\")"},
     {FRIG_PARAM_FIT_OUTLINE_ITERATIONS, "fit.outline_iterations", 16, 0, 50, 1,
      "Gauss-Newton steps of the identity and every photo's pose from the photos' outlines (where the head is "
      "seen edge-on against the background) after the landmark fit; 0: off"},
