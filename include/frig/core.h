@@ -161,6 +161,7 @@ typedef enum frig_param {
     FRIG_PARAM_FIT_OUTLINE_PRIOR = 452,      /* the identity's prior against an outline pixel's error (default 30) */
     FRIG_PARAM_FIT_W_FOCAL = 453,            /* prior log(f / f0)^2 of the focal length (default 10) */
     FRIG_PARAM_FIT_LANDMARK_VERTICES = 454,  /* 1: ICT's nostrils and mouth at the vertices where the detector puts them (default 0: the model's own) */
+    FRIG_PARAM_FIT_OUTLINE_BAND = 455,       /* 1: the outline steps read the lower face's outline only, brows to below the chin (default 1; 0: the whole face region) */
 
     /* synthetic ground truth */
     FRIG_PARAM_SYNTH_MAX_YAW = 500,         /* degrees (default 60) */

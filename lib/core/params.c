@@ -111,6 +111,10 @@ static const param_row rows[] = {
     {FRIG_PARAM_FIT_LANDMARK_VERTICES, "fit.landmark_vertices", 0, 0, 1, 1,
      "1: with ICT-FaceKit's model, the nostrils' wings and the mouth (iBUG 31-35, 48-67) are matched to the vertices "
      "where the landmark detector puts them (measured on synthetic photos, docs/fit.md); 0: to the model's own"},
+    {FRIG_PARAM_FIT_OUTLINE_BAND, "fit.outline_band", 1, 0, 1, 1,
+     "1: the outline steps read the face's outline from the brows' height to a little below the chin (in photos "
+     "hair covers the forehead and temples, and its edges made the faces small); 0: the whole face region's "
+     "outline, forehead and scalp too (renders without hair)"},
 
     {FRIG_PARAM_SYNTH_MAX_YAW, "synth.max_yaw", 60, 0, 90, 0, "largest head yaw of synthetic photos, degrees"},
     {FRIG_PARAM_SYNTH_OFFSET_MM, "synth.offset_mm", 4, 0, 50, 0,

@@ -120,7 +120,7 @@ static frig_status refine_by_outlines(frig_ctx *ctx, const frig_photoset *set, c
                                       int n, const fr_fit_input *in, fr_fit_result *res, double *identity) {
     fr_outline_options o = {fr_param_int(ctx, FRIG_PARAM_FIT_OUTLINE_ITERATIONS),
                             fr_param(ctx, FRIG_PARAM_FIT_OUTLINE_PRIOR), fr_param_int(ctx, FRIG_PARAM_FIT_MEAN_SIZE),
-                            fr_threads(ctx)};
+                            fr_threads(ctx), fr_param_int(ctx, FRIG_PARAM_FIT_OUTLINE_BAND)};
     if (o.iterations <= 0) return FRIG_OK;
     const char **paths = malloc(sizeof(char *) * ((size_t)n + 1));
     if (!paths) return fr_nomem(ctx, "the outline fit");

@@ -85,14 +85,15 @@ typedef struct mesh {
 
 static void mesh_free(mesh *m) { free(m->tris), free(m->skin), free(m->band), free(m->vertex); }
 
-/* Which vertices may give outline pixels: those from the brows' height (the mean of landmarks
- * 17-26 on the model's neutral) down to BELOW_CHIN of the brow-to-chin height below the chin
- * (landmark 8), the model's y axis up. */
-static uint8_t *band_init(const fr_fit_model *fm) {
+/* Which vertices may give outline pixels: all (band 0), or those from the brows' height (the
+ * mean of landmarks 17-26 on the model's neutral) down to BELOW_CHIN of the brow-to-chin height
+ * below the chin (landmark 8), the model's y axis up. */
+static uint8_t *band_init(const fr_fit_model *fm, int band) {
     const frig_model *model = fm->model;
     int nv = model->topo.vertex_count;
     uint8_t *in = malloc((size_t)nv + 1);
     if (!in) return NULL;
+    if (!band) return memset(in, 1, (size_t)nv + 1);
     double brows = 0, chin = model->neutral[3 * (size_t)fm->landmark_vertex[8] + 1];
     for (int k = 17; k < 27; k++) brows += model->neutral[3 * (size_t)fm->landmark_vertex[k] + 1] / 10;
     double low = chin - BELOW_CHIN * (brows - chin);
@@ -103,13 +104,13 @@ static uint8_t *band_init(const fr_fit_model *fm) {
     return in;
 }
 
-static frig_status mesh_init(frig_ctx *ctx, const fr_fit_model *fm, mesh *m) {
+static frig_status mesh_init(frig_ctx *ctx, const fr_fit_model *fm, int band, mesh *m) {
     const fr_topology *t = &fm->model->topo;
     memset(m, 0, sizeof *m);
     m->tris = malloc(sizeof(int32_t) * 3 * ((size_t)t->triangle_count + 1));
     m->skin = malloc((size_t)t->triangle_count + 1);
     m->band = malloc((size_t)t->triangle_count + 1);
-    uint8_t *seen = calloc((size_t)t->vertex_count + 1, 1), *in = band_init(fm);
+    uint8_t *seen = calloc((size_t)t->vertex_count + 1, 1), *in = band_init(fm, band);
     m->vertex = malloc(sizeof(int32_t) * ((size_t)t->vertex_count + 1));
     if (!m->tris || !m->skin || !m->band || !seen || !in || !m->vertex) {
         free(seen), free(in);
@@ -376,7 +377,7 @@ frig_status fr_fit_outline(frig_ctx *ctx, const fr_fit_model *fm, const fr_outli
     int nid = fm->n_id, nv = model->topo.vertex_count, threads = o->threads > 0 ? o->threads : 1;
     size_t nv3 = 3 * (size_t)nv;
     mesh m;
-    frig_status st = mesh_init(ctx, fm, &m);
+    frig_status st = mesh_init(ctx, fm, o->band, &m);
     view *views = calloc((size_t)n, sizeof *views);
     part *parts = calloc((size_t)n, sizeof *parts);
     size_t scratch = 3 * nv3 + (size_t)model->identity_count + (size_t)model->expression_count + (size_t)nid + 6;

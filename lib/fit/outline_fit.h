@@ -11,6 +11,8 @@ typedef struct fr_outline_options {
     double prior;    /* weight of the identity's prior N(0, I) against one outline residual of a pixel */
     int mean_size;   /* 1: the steps keep the face's size */
     int threads;
+    int band;        /* 1: outline pixels from the brows' height to a little below the chin only; 0: the whole
+                      * face region */
 } fr_outline_options;
 
 /* Refine identity (fm->n_id values, shared) and each photo's pose res[a].R, res[a].t (the
