@@ -273,19 +273,26 @@ static double relative_rotation_error(double Rtrue[][9], const fr_fit_result *re
     return e;
 }
 
+/* The outline tests' scene: the model for fitting, synth subject 4200 and its 16 photos (seed
+ * 92000). Returns 0 (a failure counted) when it cannot be made. */
+static int outline_scene(frig_ctx *ctx, const frig_model *m, fr_fit_model *fm, frig_synth_subject **subj, data *d) {
+    CHECK(fr_fit_model_build(ctx, m, 100, fm) == FRIG_OK);
+    CHECK(frig_synth_subject_create(ctx, m, 4200, subj) == FRIG_OK);
+    if (!*subj || !make_data(ctx, *subj, 92000, d)) {
+        test_failures++;
+        return 0;
+    }
+    return 1;
+}
+
 /* The outline steps (outline_fit.c) after the progressive fit: the outlines come nearer the
  * photos' edges and the neutral nearer the truth, the same bytes at 1 and 2 threads. */
 static void test_outline(frig_ctx *ctx, const frig_model *m) {
     const char *dir = test_temp_dir("fit_outline");
     fr_fit_model fm;
-    CHECK(fr_fit_model_build(ctx, m, 100, &fm) == FRIG_OK);
     frig_synth_subject *subj = NULL;
-    CHECK(frig_synth_subject_create(ctx, m, 4200, &subj) == FRIG_OK);
     data d;
-    if (!subj || !make_data(ctx, subj, 92000, &d)) {
-        test_failures++;
-        return;
-    }
+    if (!outline_scene(ctx, m, &fm, &subj, &d)) return;
     char paths[PHOTOS][4200];
     const char *pp[PHOTOS];
     for (int p = 0; p < PHOTOS; p++) {
@@ -388,14 +395,9 @@ static double rms_size(const float *xyz) {
 static void test_outline_hair(frig_ctx *ctx, const frig_model *m) {
     const char *dir = test_temp_dir("fit_outline_hair");
     fr_fit_model fm;
-    CHECK(fr_fit_model_build(ctx, m, 100, &fm) == FRIG_OK);
     frig_synth_subject *subj = NULL;
-    CHECK(frig_synth_subject_create(ctx, m, 4200, &subj) == FRIG_OK);
     data d;
-    if (!subj || !make_data(ctx, subj, 92000, &d)) {
-        test_failures++;
-        return;
-    }
+    if (!outline_scene(ctx, m, &fm, &subj, &d)) return;
     char paths[2][PHOTOS][4200];
     const char *pp[2][PHOTOS];
     for (int p = 0; p < PHOTOS; p++) {
