@@ -884,21 +884,21 @@ static void test_identity(void) {
     CHECK(frig_rig_from_model(ctx, model, zero, &mean) == FRIG_OK);
     fr_sfs_settings st;
     fr_sfs_settings_from_ctx(ctx, &st);
-    fr_sfs_settings_identity(ctx, &st, model, sc.set); /* sfs.identity_modes: 40 by default */
+    fr_sfs_settings_identity(ctx, &st, model, sc.set); /* sfs.identity_modes: 100 by default */
     st.joint_min_photos = 0, st.pose_levels = 0, st.expression_steps = 0, st.pose_steps = 0; /* the true poses, expressions */
     st.joint_light = 1;
     /* seven photos of 256 pixels: the prior must be stronger than the default's (measured with the prior at
      * the mean face: 3.260 -> 3.728 mm at 1, 3.203 at 100, 2.823 at 1000; docs/sfs.md; at the fit's identity,
      * sfs.identity_prior_centre 1, 2.859 at 1000) */
     st.identity_prior = 1000;
-    CHECK(st.identity_count == 40);
+    CHECK(st.identity_count == 100);
     fr_sfs_run run;
     CHECK(fr_sfs_run_all(ctx, mean, sc.set, &st, &run) == FRIG_OK && run.mesh.ident && run.ident);
     int nv = frig_rig_vertex_count(mean), nf = 6706 < nv ? 6706 : nv; /* the narrow face */
     float *x = malloc(sizeof(float) * 3 * (size_t)nv);
     double change = 0;
     for (size_t q = 0; q < 3 * (size_t)nv; q++) x[q] = frig_rig_neutral(mean)[q] + (run.mesh.ident ? run.mesh.ident[q] : 0);
-    for (int k = 0; k < 40; k++) change += run.ident[k] * run.ident[k];
+    for (int k = 0; k < st.identity_count; k++) change += run.ident[k] * run.ident[k];
     double before = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(sc.truth_rig), frig_rig_neutral(mean), nf);
     double after = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(sc.truth_rig), x, nf);
     double best = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(sc.truth_rig), frig_rig_neutral(sc.rig), nf);

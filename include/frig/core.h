@@ -207,7 +207,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_CLOUD_REGION = 631,      /* the clouds' pixels: 2 the narrow face, the rest of the face region in
                                                the cloud's margin (default); 1 the narrow face only; 0 all in the cloud */
     FRIG_PARAM_SFS_IDENTITY_MODES = 632,    /* the model's first N identity modes solved with the shared shape, with
-                                               frig_sfs_with_model (default 40; 0 off) */
+                                               frig_sfs_with_model (default 100; 0 off) */
     FRIG_PARAM_SFS_IDENTITY_PRIOR = 633,    /* weight of their prior N(c, I) in the shared solve's energy (default 30) */
     FRIG_PARAM_SFS_JOINT_LIGHT = 634,       /* the photos' lights closer to one axis on the face than this: the
                                              * light shared solve (default 0.95; 1: never; docs/sfs.md) */

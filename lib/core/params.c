@@ -207,7 +207,7 @@ static const param_row rows[] = {
      "the pixels a cloud may keep: 1 the narrow face (no neck, ears or scalp: their points were 1.5-2.3 mm off, twice "
      "the rest, and pulled every cloud's alignment), 2 the same with the rest written as the cloud's margin "
      "(clouds/margin/, read by retarget), 0 the whole face region the skin model judges"},
-    {FRIG_PARAM_SFS_IDENTITY_MODES, "sfs.identity_modes", 40, 0, 1000, 1,
+    {FRIG_PARAM_SFS_IDENTITY_MODES, "sfs.identity_modes", 100, 0, 1000, 1,
      "the model's first N identity modes solved with the shared shape from the fit's identity, so that the face may "
      "move along its surface as well as across it (frig_sfs_with_model; frig sfs --model; 0 off)"},
     {FRIG_PARAM_SFS_IDENTITY_PRIOR, "sfs.identity_prior", 30, 0, 1e9, 0,

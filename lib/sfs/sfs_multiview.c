@@ -23,7 +23,7 @@
  * (sfs_pose_align.c: blurred photometric and occluding-contour terms, a wider basin) before the
  * first round and after each (the whole pyramid after the first, its finest level after the
  * others).
- * With a model (o->id_count > 0: sfs.identity_modes, 40 by default through frig_sfs_with_model; docs/sfs.md,
+ * With a model (o->id_count > 0: sfs.identity_modes, 100 by default through frig_sfs_with_model; docs/sfs.md,
  * "The identity's modes in the shared solve") the model's first identity modes are unknowns too: the
  * surface is P_k(t) = X_k(t) + U(t) (beta - beta_s) + D(t) n_k(t), U the modes at the texel, the same
  * change in every expression, held by id_prior |(1 - c) fit's weights + beta|^2 (c =
@@ -635,6 +635,31 @@ static void combine_rows(const double *coef, const double *rows, int n, int M, d
     fr_add_weighted_rows(cf, rp, k, M, out);
 }
 
+/* A root R of a texel's identity block Z (NZ x NZ, symmetric, positive semi-definite: weighted
+ * outer products less the albedo's Schur complement): Z = R^T R with R = sqrt(D) L^T from
+ * Z = L D L^T, pivots under a relative 1e-12 (rounding) taken as zero, so V^T Z V = (R V)^T (R V)
+ * and the texels' blocks add up by one symmetric rank-k product. R row by row into out. */
+static void z_root(const double *Z, double *out) {
+    double L[NZ * NZ], d[NZ], top = 0;
+    for (int i = 0; i < NZ; i++) top = fmax(top, Z[NZ * i + i]);
+    memset(L, 0, sizeof L);
+    for (int j = 0; j < NZ; j++) {
+        double dj = Z[NZ * j + j];
+        for (int k = 0; k < j; k++) dj -= L[NZ * j + k] * L[NZ * j + k] * d[k];
+        d[j] = dj > 1e-12 * top ? dj : 0.0;
+        L[NZ * j + j] = 1.0;
+        for (int i = j + 1; i < NZ; i++) {
+            double x = Z[NZ * i + j];
+            for (int k = 0; k < j; k++) x -= L[NZ * i + k] * L[NZ * j + k] * d[k];
+            L[NZ * i + j] = d[j] > 0 ? x / d[j] : 0.0;
+        }
+    }
+    for (int j = 0; j < NZ; j++) { /* row j of R: sqrt(d_j) times column j of L */
+        double r = sqrt(d[j]);
+        for (int i = 0; i < NZ; i++) out[NZ * j + i] = r * L[NZ * i + j];
+    }
+}
+
 /* The identity's equations at the current point from the texels' (eq[cur]): C = H_Db (nt x M),
  * Hbb = sum_t V^T Z V with V = E^T U over each texel's stencil points (9 x M: U's rows at the
  * points combined as z combines them, ident_rows), gb, with the prior's terms (energy
@@ -647,7 +672,7 @@ static void assemble_ident(mv *s) {
     double *Cr = s->Y; /* C row by row first (each texel's M together), then into C's columns */
     memset(Cr, 0, sizeof(double) * nt * (size_t)M);
     memset(s->Hbb, 0, sizeof(double) * (size_t)M * M), memset(s->gb, 0, sizeof(double) * (size_t)M);
-    /* a chunk of texels' V (9 rows per texel) and Z V */
+    /* a chunk of texels' V (9 rows per texel) and R V (z_root) */
     double *Vr = malloc(sizeof(double) * NZ * CHUNK * (size_t)M), *Wr = malloc(sizeof(double) * NZ * CHUNK * (size_t)M);
     if (!Vr || !Wr) { /* no identity step this time */
         free(Vr), free(Wr);
@@ -656,8 +681,8 @@ static void assemble_ident(mv *s) {
     }
     int rows = 0; /* texels in the chunk */
     for (int t = 0; t <= s->nt; t++) {
-        if (rows == CHUNK || (t == s->nt && rows)) { /* Hbb += V^T (Z V) over the chunk */
-            cblas_dgemm(CblasRowMajor, CblasTrans, CblasNoTrans, M, M, NZ * rows, 1.0, Vr, M, Wr, M, 1.0, s->Hbb, M);
+        if (rows == CHUNK || (t == s->nt && rows)) { /* Hbb += (R V)^T (R V) over the chunk */
+            cblas_dsyrk(CblasRowMajor, CblasUpper, CblasTrans, M, NZ * rows, 1.0, Wr, M, 1.0, s->Hbb, M);
             rows = 0;
         }
         if (t == s->nt) break;
@@ -679,10 +704,12 @@ static void assemble_ident(mv *s) {
                 for (int m = 0; m < M; m++) v[m] += c * x[m];
             }
         }
+        double R[NZ * NZ];
+        z_root(Zf, R);
         for (int i = 0; i < NZ; i++) {
             double *w = wr + (size_t)M * i;
             memset(w, 0, sizeof(double) * (size_t)M);
-            combine_rows(Zf + NZ * i, vr, NZ, M, w);
+            combine_rows(R + NZ * i, vr, NZ, M, w);
             const double *x = vr + (size_t)M * i;
             for (int m = 0; m < M; m++) s->gb[m] += x[m] * gz[i];
         }
@@ -695,11 +722,8 @@ static void assemble_ident(mv *s) {
     }
     for (size_t t = 0; t < nt; t++)
         for (int m = 0; m < M; m++) s->C[nt * m + t] = Cr[(size_t)M * t + m];
-    for (int m = 0; m < M; m++)
-        for (int m2 = 0; m2 < m; m2++) {
-            double x = 0.5 * (s->Hbb[(size_t)M * m + m2] + s->Hbb[(size_t)M * m2 + m]);
-            s->Hbb[(size_t)M * m + m2] = s->Hbb[(size_t)M * m2 + m] = x;
-        }
+    for (int m = 0; m < M; m++) /* the upper triangle dsyrk filled, mirrored */
+        for (int m2 = 0; m2 < m; m2++) s->Hbb[(size_t)M * m + m2] = s->Hbb[(size_t)M * m2 + m];
     for (int m = 0; m < M; m++) {
         s->Hbb[(size_t)M * m + m] += 2 * s->o->id_prior;
         s->gb[m] += 2 * s->o->id_prior * (prior_offset(s->o, m) + s->beta[m]);
