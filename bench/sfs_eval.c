@@ -29,7 +29,7 @@
  * them (with --truth-pose, where the head frames agree); "neutral as a surface" the neutral's
  * distance to the true face (not vertex to vertex: what a displacement along the normals can
  * fix), by height band and by facing;
- * --identity MODEL solves the first --identity-modes N (default 40) identity modes of MODEL with the
+ * --identity MODEL solves the first --identity-modes N (default sfs.identity_modes) identity modes of MODEL with the
  * shared displacement, their weights held by --identity-prior W (default sfs.identity_prior) times
  * |(1 - sfs.identity_prior_centre) fit's + change|^2;
  * the neutral's measures are then of the rig with the identity change and the displacement;
@@ -243,7 +243,7 @@ int main(int argc, char **argv) {
     double w_stereo = -1, shape_sigma = -1, oracle_deg = 0, pose_noise = 0, pose_sigma = -1;
     int pose_levels = -1;
     const char *in_span_model = NULL, *dump_neutral = NULL, *dump_errors = NULL;
-    int truth_neutral = 0, write_fits = 0, id_modes = 40;
+    int truth_neutral = 0, write_fits = 0, id_modes = -1; /* -1: sfs.identity_modes */
     const char *id_model = NULL;
     double id_prior = -1; /* -1: sfs.identity_prior */
     for (int i = 3; i < argc; i++) {
@@ -312,6 +312,7 @@ int main(int argc, char **argv) {
             return 1;
         }
         st.identity_modes = idm->identity;
+        if (id_modes < 0) id_modes = (int)frig_ctx_get_param(ctx, FRIG_PARAM_SFS_IDENTITY_MODES);
         st.identity_count = id_modes < idm->identity_count ? id_modes : idm->identity_count;
         if (id_prior >= 0) st.identity_prior = id_prior;
         id_start = calloc((size_t)st.identity_count + 1, sizeof(double));
