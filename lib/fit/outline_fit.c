@@ -35,6 +35,7 @@
 #include <omp.h>
 
 #include "core/context.h"
+#include "core/sort.h"
 #include "fit/outline_fit.h"
 #include "image/area_crop.h"
 #include "image/bilinear.h"
@@ -237,9 +238,12 @@ static int edge_along(const view *v, int x, int y, const double nu[2], double *a
     return found;
 }
 
-static int compare_double(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
+/* A colour's luminance and chromaticity (r and g over r + g + b) into out; 0 when it is black. */
+static int skin_coords(double r, double g, double b, double out[3]) {
+    double sum = r + g + b;
+    if (!(sum > 1e-4)) return 0;
+    out[0] = 0.2126 * r + 0.7152 * g + 0.0722 * b, out[1] = r / sum, out[2] = g / sum;
+    return 1;
 }
 
 /* The face's skin in this view: the medians of luminance and chromaticity (r and g over r + g +
@@ -252,13 +256,13 @@ static int skin_colour(const view *v, const fr_raster *r, const mesh *m, double 
     for (size_t i = 0; i < n; i++) {
         if (r->tri[i] < 0 || !m->band[r->tri[i]]) continue;
         const float *c = v->I + 3 * i;
-        double sum = (double)c[0] + c[1] + c[2];
-        if (!(sum > 1e-4)) continue;
-        a[k] = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2], a[n + k] = c[0] / sum, a[2 * n + k] = c[1] / sum;
+        double q[3];
+        if (!skin_coords(c[0], c[1], c[2], q)) continue;
+        a[k] = q[0], a[n + k] = q[1], a[2 * n + k] = q[2];
         k++;
     }
     for (int d = 0; d < 3 && k > 0; d++) {
-        qsort(a + d * n, k, sizeof(double), compare_double);
+        qsort(a + d * n, k, sizeof(double), fr_cmp_double);
         ref[d] = a[d * n + k / 2];
     }
     free(a);
@@ -268,11 +272,10 @@ static int skin_colour(const view *v, const fr_raster *r, const mesh *m, double 
 /* Whether the photo SKIN_INSET_PX inside the edge at (x, y) looks like the face's skin (ref): an
  * edge with hair on both sides (strands over a cheek) is not the face's outline. */
 static int skin_inside(const view *v, const double ref[3], double x, double y, const double nu[2]) {
-    double p[2] = {x - SKIN_INSET_PX * nu[0], y - SKIN_INSET_PX * nu[1]}, c[3];
+    double p[2] = {x - SKIN_INSET_PX * nu[0], y - SKIN_INSET_PX * nu[1]}, c[3], q[3];
     fr_bilinear3(v->I, v->w, v->h, p, c);
-    double sum = c[0] + c[1] + c[2], luma = 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
-    if (!(sum > 1e-4) || !(luma > ref[0] / SKIN_LUMA && luma < ref[0] * SKIN_LUMA)) return 0;
-    return hypot(c[0] / sum - ref[1], c[1] / sum - ref[2]) < SKIN_CHROMA;
+    if (!skin_coords(c[0], c[1], c[2], q) || !(q[0] > ref[0] / SKIN_LUMA && q[0] < ref[0] * SKIN_LUMA)) return 0;
+    return hypot(q[1] - ref[1], q[2] - ref[2]) < SKIN_CHROMA;
 }
 
 /* One linearized residual (row: n identity values, then 6 pose values) added to the part with
