@@ -742,17 +742,15 @@ static frig_status solve_ident(frig_ctx *ctx, mv *s, fr_cholesky *ch, double mu)
     if (st) return st;
     const double *y = s->Y + nt * (size_t)M;
     double lam = mu / (s->dmean > 0 ? s->dmean : 1);
+    /* dbeta's rhs -gb - C^T y, and S = Hbb - C^T K^-1 C (C and Y column-major, nt x M): its upper
+     * triangle (row-major, as S is read) by one product, mirrored */
+    for (int m = 0; m < M; m++) s->dbeta[m] = -s->gb[m];
+    cblas_dgemv(CblasColMajor, CblasTrans, (int)nt, M, -1.0, s->C, (int)nt, y, 1, 1.0, s->dbeta, 1);
+    memcpy(s->S, s->Hbb, sizeof(double) * (size_t)M * M);
+    cblas_dgemm(CblasColMajor, CblasTrans, CblasNoTrans, M, M, (int)nt, -1.0, s->Y, (int)nt, s->C, (int)nt, 1.0,
+                s->S, M);
     for (int m = 0; m < M; m++) {
-        const double *cm = s->C + nt * (size_t)m;
-        double r = -s->gb[m];
-        for (size_t t = 0; t < nt; t++) r -= cm[t] * y[t];
-        s->dbeta[m] = r;
-        for (int m2 = m; m2 < M; m2++) {
-            const double *ym = s->Y + nt * (size_t)m2;
-            double x = 0;
-            for (size_t t = 0; t < nt; t++) x += cm[t] * ym[t];
-            s->S[(size_t)M * m + m2] = s->S[(size_t)M * m2 + m] = s->Hbb[(size_t)M * m + m2] - x;
-        }
+        for (int m2 = m + 1; m2 < M; m2++) s->S[(size_t)M * m2 + m] = s->S[(size_t)M * m + m2];
         s->S[(size_t)M * m + m] += lam * s->Hbb[(size_t)M * m + m];
     }
     st = fr_solve_spd(ctx, M, 1, s->S, M, s->dbeta, M); /* S symmetric: its row-major layout is LAPACK's */
@@ -762,11 +760,8 @@ static frig_status solve_ident(frig_ctx *ctx, mv *s, fr_cholesky *ch, double mu)
         memset(s->dbeta, 0, sizeof(double) * (size_t)M);
     }
     if (st) return st;
-    for (size_t t = 0; t < nt; t++) {
-        double d = y[t];
-        for (int m = 0; m < M; m++) d -= s->Y[nt * (size_t)m + t] * s->dbeta[m];
-        s->delta[t] = d;
-    }
+    memcpy(s->delta, y, sizeof(double) * nt); /* delta = y - Y dbeta */
+    cblas_dgemv(CblasColMajor, CblasNoTrans, (int)nt, M, -1.0, s->Y, (int)nt, s->dbeta, 1, 1.0, s->delta, 1);
     return FRIG_OK;
 }
 

@@ -15,6 +15,7 @@ struct fr_cholesky {
     cholmod_sparse *M;  /* the factored symmetric matrix (lower storage) */
     cholmod_sparse *A;  /* least squares only: the m x n design matrix */
     cholmod_factor *L;
+    cholmod_dense *X, *Y, *E; /* fr_cholesky_solve's solution and cholmod_solve2's workspace, kept */
     int n;
     /* fr_cholesky_create's triplets (positions, in order) and where each lands in M->x, so
      * that a refactorization with the same triplets writes M's values directly, summing
@@ -258,14 +259,15 @@ frig_status fr_cholesky_refactor(frig_ctx *ctx, fr_cholesky *ch, const fr_triple
 int fr_cholesky_size(const fr_cholesky *ch) { return ch ? ch->n : 0; }
 
 frig_status fr_cholesky_solve(frig_ctx *ctx, fr_cholesky *ch, int nrhs, const double *B, double *X) {
-    cholmod_dense *b = cholmod_allocate_dense((size_t)ch->n, (size_t)nrhs, (size_t)ch->n, CHOLMOD_REAL, &ch->cc);
-    if (!b) return fr_nomem(ctx, "a right-hand side");
-    memcpy(b->x, B, sizeof(double) * (size_t)ch->n * (size_t)nrhs);
-    cholmod_dense *x = cholmod_solve(CHOLMOD_A, ch->L, b, &ch->cc);
-    cholmod_free_dense(&b, &ch->cc);
-    if (!x) return fr_error(ctx, FRIG_ERR_NUMERIC, "sparse solve failed (CHOLMOD status %d)", ch->cc.status);
-    memcpy(X, x->x, sizeof(double) * (size_t)ch->n * (size_t)nrhs);
-    cholmod_free_dense(&x, &ch->cc);
+    /* B read in place (CHOLMOD does not write it); the solution and the workspace kept for the
+     * next solve of as many columns or fewer (cholmod_solve2), so repeated solves allocate nothing */
+    cholmod_dense b = {.nrow = (size_t)ch->n, .ncol = (size_t)nrhs, .nzmax = (size_t)ch->n * (size_t)nrhs,
+                       .d = (size_t)ch->n, .x = (void *)B, .xtype = CHOLMOD_REAL, .dtype = CHOLMOD_DOUBLE};
+    if (!cholmod_solve2(CHOLMOD_A, ch->L, &b, NULL, &ch->X, NULL, &ch->Y, &ch->E, &ch->cc))
+        return ch->cc.status == CHOLMOD_OUT_OF_MEMORY
+                   ? fr_nomem(ctx, "a sparse solve")
+                   : fr_error(ctx, FRIG_ERR_NUMERIC, "sparse solve failed (CHOLMOD status %d)", ch->cc.status);
+    memcpy(X, ch->X->x, sizeof(double) * (size_t)ch->n * (size_t)nrhs);
     return FRIG_OK;
 }
 
@@ -332,6 +334,7 @@ void fr_cholesky_free(fr_cholesky *ch) {
     cholmod_free_factor(&ch->L, &ch->cc);
     cholmod_free_sparse(&ch->M, &ch->cc);
     cholmod_free_sparse(&ch->A, &ch->cc);
+    cholmod_free_dense(&ch->X, &ch->cc), cholmod_free_dense(&ch->Y, &ch->cc), cholmod_free_dense(&ch->E, &ch->cc);
     cholmod_finish(&ch->cc);
     free(ch->ti), free(ch->tj), free(ch->slot), free(ch->first);
     free(ch);
