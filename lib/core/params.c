@@ -217,6 +217,10 @@ static const param_row rows[] = {
      "the shared solve's identity prior is centred at this share of the fit's identity: 1 the fit's (its landmarks "
      "and outlines placed the face's features along the surface, which shading and stereo cannot see), 0 the "
      "mean face"},
+    {FRIG_PARAM_SFS_DISPLACEMENT_HOLD, "sfs.displacement_hold", 5, 0, 1e6, 0,
+     "with the identity's modes (sfs.identity_modes), weight holding the shared displacement to zero (per texel, "
+     "mm^2) in the first half of the shared solve's rounds, so that the modes make the shape first and the "
+     "displacement only what they cannot in the later rounds (0.05 there); 0: 0.05 in every round"},
     {FRIG_PARAM_SFS_JOINT_LIGHT, "sfs.joint_light", 0.95, 0, 1, 0,
      "when the photos' lights, turned into the head's frame, are closer to one axis than this (the largest "
      "eigenvalue of the mean outer product of their directions; 1 = one axis, as frames of a video under one "

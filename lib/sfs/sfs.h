@@ -57,6 +57,7 @@ typedef struct fr_sfs_settings {
     int identity_count;
     double identity_prior;
     double identity_centre;
+    double displacement_hold; /* the shared displacement's anchor in the first half of the rounds (identity modes) */
     const double *identity_start;
 } fr_sfs_settings;
 

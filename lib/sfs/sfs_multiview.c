@@ -29,6 +29,10 @@
  * change in every expression, held by id_prior |(1 - c) fit's weights + beta|^2 (c =
  * sfs.identity_prior_centre, 1 by default: the prior centred at the fit's identity, whose landmarks and
  * outlines placed the features along the surface, where shading and stereo cannot see; docs/sfs.md).
+ * In the first half of the rounds D is held by id_hold (sfs.displacement_hold, 5) instead of w_anchor
+ * (0.05): D can make any smooth change of the surface along its normals nearly for free, the modes only
+ * against their prior, so a free D took the in-span shape too and left the identity near the fit's
+ * (docs/sfs.md, "The identity first"); held, the modes take it, and the later rounds leave D the rest.
  * Each texel's terms are also kept by its stencil points' head-frame positions (15 x 15, the albedo
  * eliminated from them too), so that the identity's M x M block is sum_t U^T A_t U and its coupling to D
  * sparse x dense; the step solves the damped D block for the coupling's M columns and the rhs, then the
@@ -81,7 +85,8 @@ void fr_sfs_multiview_options_default(fr_sfs_multiview_options *o) {
     o->expression_steps = 0;
     o->expression_prior = 0.3;
     o->expression_sparse = 0.3;
-    o->id_modes = NULL, o->id_count = 0, o->id_prior = 1.0, o->id_centre = 0, o->id_start = NULL, o->id_change = NULL;
+    o->id_modes = NULL, o->id_count = 0, o->id_prior = 1.0, o->id_centre = 0, o->id_hold = 0, o->id_start = NULL;
+    o->id_change = NULL;
 }
 
 /* One photo's view of the texels: the rig's texel points and normals at its expression, and
@@ -149,6 +154,7 @@ typedef struct mv {
     double *Hbb, *gb, *S; /* M x M, M, M x M */
     double dmean;       /* the D block's mean diagonal at the first assembly (the identity's damping scale) */
     double cpu_id[4];   /* CPU s: evaluations, the identity's assembly, the solves, the bakes (the log) */
+    double w_anchor;    /* the round's anchor of D: o->id_hold in the first half of the rounds, else o->w_anchor */
 } mv;
 
 static void interp(const float *attr, const int32_t *tri, const float *b, double out[3]) {
@@ -539,7 +545,7 @@ static double evaluate_at(const mv *s, const double *D, const double *beta, cons
     }
 #pragma omp parallel for schedule(dynamic, 64) num_threads(s->threads)
     for (int t = 0; t < s->nt; t++) {
-        et[3 * (size_t)t] = texel_normal_equations(s, D, Xb, albedo, t, q) + s->o->w_anchor * D[t] * D[t];
+        et[3 * (size_t)t] = texel_normal_equations(s, D, Xb, albedo, t, q) + s->w_anchor * D[t] * D[t];
         int nb[3];
         for (int dir = 0; dir < 2; dir++) {
             et[3 * (size_t)t + 1 + dir] = 0;
@@ -608,8 +614,8 @@ static frig_status assemble(frig_ctx *ctx, mv *s, double mu, fr_triplets *tr) {
                     if (u[a] >= 0 && u[b] >= 0) st = add(ctx, tr, u[a], u[b], H[h]);
         }
         s->damped[t] = tr->count;
-        if (!st) st = add(ctx, tr, t, t, s->o->w_anchor + mu);
-        s->rhs[t] -= s->o->w_anchor * s->D[t];
+        if (!st) st = add(ctx, tr, t, t, s->w_anchor + mu);
+        s->rhs[t] -= s->w_anchor * s->D[t];
         int nb[3];
         for (int dir = 0; dir < 2 && !st; dir++) {
             if (!curv(s, t, dir, nb)) continue;
@@ -807,7 +813,7 @@ static frig_status ident_bake(frig_ctx *ctx, mv *s, int redraw) {
 
 /* The damping alone changed: the triplets assemble() would give at the same D with this mu. */
 static void set_damping(mv *s, double mu, fr_triplets *tr) {
-    for (int t = 0; t < s->nt; t++) tr->x[s->damped[t]] = s->o->w_anchor + mu;
+    for (int t = 0; t < s->nt; t++) tr->x[s->damped[t]] = s->w_anchor + mu;
 }
 
 /* Photo k's observation of texel t for the albedo: the shading S of its normal at D (the rig's
@@ -1214,6 +1220,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     mv s;
     memset(&s, 0, sizeof s);
     s.ps = ps, s.m = m, s.uv = uv, s.views = views, s.nviews = nviews, s.use = use, s.o = o, s.nt = uv->count;
+    s.w_anchor = o->w_anchor;
     albedo_cap(&s, s.albedo_cap);
     int T = uv->size, threads = fr_threads(ctx);
     size_t nt = (size_t)s.nt + 1;
@@ -1308,6 +1315,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
         for (int k = 0; k < nviews; k++)
             if (use[k]) photo_sample(&s, k);
+        /* the identity first: D held in the first half of the rounds, so that the modes make what they can
+         * of the shape (their prior is against the fit's identity, D's anchor nearly free), then D the rest */
+        s.w_anchor = s.M > 0 && o->id_hold > 0 && outer < o->outer / 2 ? o->id_hold : o->w_anchor;
         memcpy(s.D_s, s.D, sizeof(double) * (size_t)s.nt);
         update_albedo(&s, threads);
         s.cur = 0;

@@ -34,6 +34,7 @@ typedef struct fr_sfs_multiview_options {
     int id_count;
     double id_prior;
     double id_centre;
+    double id_hold;   /* with identity modes: w_anchor in the first half of the rounds (0: w_anchor throughout) */
     const double *id_start;
     double *id_change;
 } fr_sfs_multiview_options;

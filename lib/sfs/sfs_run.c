@@ -301,7 +301,7 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
             r->ident = calloc((size_t)st->identity_count + 1, sizeof(double));
             if (!r->mesh.ident || !r->ident) s = fr_nomem(ctx, "the identity change");
             mo.id_modes = st->identity_modes, mo.id_count = st->identity_count, mo.id_prior = st->identity_prior;
-            mo.id_centre = st->identity_centre;
+            mo.id_centre = st->identity_centre, mo.id_hold = st->displacement_hold;
             mo.id_start = st->identity_start, mo.id_change = r->ident;
         }
         uint8_t *use = malloc((size_t)r->n + 1);
