@@ -15,9 +15,9 @@ jobs=$(nproc)
 # OpenBLAS picks its kernels by the CPU model it knows. Debian 12's 0.3.21 does not know some newer
 # Xeons (seen: AVX-512 with FP16, "Intel(R) Xeon(R) Processor") and falls back to the SSE3 kernels
 # ("Prescott"), as fast here (the sfs stage's time is not in BLAS) but rounding differently; on
-# test_sfs's seven-photo scene that moves a photo's lighting to another optimum of the direction
-# search, and two of its checks fail. The tests' figures were measured with the AVX2 kernels, so
-# the suite pins them where the CPU has AVX2 (a user's own OPENBLAS_CORETYPE stays).
+# test_sfs's seven-photo scene the shared solve then ends at other poses and albedo, and two of its
+# checks fail (docs/sfs.md, "What is not done"). The tests' figures were measured with the AVX2
+# kernels, so the suite pins them where the CPU has AVX2 (a user's own OPENBLAS_CORETYPE stays).
 if [ -z "${OPENBLAS_CORETYPE:-}" ] && grep -qw avx2 /proc/cpuinfo 2> /dev/null; then
   export OPENBLAS_CORETYPE=Haswell
 fi
