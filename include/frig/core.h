@@ -214,7 +214,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_IDENTITY_PRIOR_CENTRE = 635, /* c: this share of the fit's identity (default 1; 0: the mean face) */
     FRIG_PARAM_SFS_DISPLACEMENT_HOLD = 636, /* with identity modes, the shared displacement held to zero by this in
                                              * the first half of the rounds, so that the modes take the shape first
-                                             * (default 5; 0: the shared solve's anchor, 0.05, throughout) */
+                                             * (default 100; 0: the shared solve's anchor, 0.05, throughout) */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

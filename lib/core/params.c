@@ -217,7 +217,7 @@ static const param_row rows[] = {
      "the shared solve's identity prior is centred at this share of the fit's identity: 1 the fit's (its landmarks "
      "and outlines placed the face's features along the surface, which shading and stereo cannot see), 0 the "
      "mean face"},
-    {FRIG_PARAM_SFS_DISPLACEMENT_HOLD, "sfs.displacement_hold", 5, 0, 1e6, 0,
+    {FRIG_PARAM_SFS_DISPLACEMENT_HOLD, "sfs.displacement_hold", 100, 0, 1e6, 0,
      "with the identity's modes (sfs.identity_modes), weight holding the shared displacement to zero (per texel, "
      "mm^2) in the first half of the shared solve's rounds, so that the modes make the shape first and the "
      "displacement only what they cannot in the later rounds (0.05 there); 0: 0.05 in every round"},

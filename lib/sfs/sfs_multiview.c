@@ -29,7 +29,7 @@
  * change in every expression, held by id_prior |(1 - c) fit's weights + beta|^2 (c =
  * sfs.identity_prior_centre, 1 by default: the prior centred at the fit's identity, whose landmarks and
  * outlines placed the features along the surface, where shading and stereo cannot see; docs/sfs.md).
- * In the first half of the rounds D is held by id_hold (sfs.displacement_hold, 5) instead of w_anchor
+ * In the first half of the rounds D is held by id_hold (sfs.displacement_hold, 100) instead of w_anchor
  * (0.05): D can make any smooth change of the surface along its normals nearly for free, the modes only
  * against their prior, so a free D took the in-span shape too and left the identity near the fit's
  * (docs/sfs.md, "The identity first"); held, the modes take it, and the later rounds leave D the rest.
