@@ -36,7 +36,9 @@ frig_status fr_cholesky_refactor(frig_ctx *ctx, fr_cholesky *ch, const fr_triple
 
 int fr_cholesky_size(const fr_cholesky *ch);
 
-/* Solve M X = B, M the factored n x n matrix, B and X n x nrhs column-major (may alias). */
+/* Solve M X = B, M the factored n x n matrix, B and X n x nrhs column-major (may alias). The
+ * factorization keeps the solve's workspace for the next one, so one factorization is solved by one
+ * thread at a time. */
 frig_status fr_cholesky_solve(frig_ctx *ctx, fr_cholesky *ch, int nrhs, const double *B, double *X);
 
 /* For a least-squares factorization: X = argmin ||A X - b||, b m x nrhs, X n x nrhs. */
