@@ -38,6 +38,8 @@
 
 static frig_ctx *ctx;
 
+#define NARROW_FACE 6706 /* the narrow face's vertices (ICT-FaceKit's 0..6705) */
+
 static void test_sh_gradient(void) {
     double n[3] = {0.3, -0.5, -0.81}, y[9], dy[27], h = 1e-6;
     fr_sh_basis_gradient(n, y, dy);
@@ -771,7 +773,7 @@ static void test_pose_align(void) {
 static double expression_error_mm(const scene *sc, int p, const double *w) {
     const frig_rig *rig = sc->rig;
     const double *tw = frig_synth_truth_expression(sc->truth[p]);
-    int nv = rig->topo.vertex_count, nf = 6706 < nv ? 6706 : nv;
+    int nv = rig->topo.vertex_count, nf = NARROW_FACE < nv ? NARROW_FACE : nv;
     size_t n3 = 3 * (size_t)nv;
     double *dw = calloc((size_t)rig->shape_count + 1, sizeof(double)), sum = 0;
     for (int j = 0; j < rig->shape_count; j++) {
@@ -873,10 +875,9 @@ static void test_expression(void) {
 /* The model's identity modes solved with the shared shape (sfs.identity_modes, sfs_multiview.c):
  * the rig starts at the mean face (identity 0) with the photos' true poses and expressions; the
  * identity change the solve finds takes the narrow face's neutral toward the subject's (the
- * personal offset outside the model's span stays). */
-/* The shared solve's identity modes against the true identity (the narrow face's neutral), with the
- * displacement held in the first rounds (sfs.displacement_hold, the default) and without: held, the
- * modes take more of the shape (docs/sfs.md, "The identity first"). */
+ * personal offset outside the model's span stays). One run with the displacement held by 'hold' in
+ * the first rounds (sfs.displacement_hold; < 0: the default): the narrow face's neutral against the
+ * truth, mm, and the change's norm in 'change'. */
 static double identity_run(const scene *sc, const frig_rig *mean, const frig_model *model, double hold,
                            double *change) {
     fr_sfs_settings st;
@@ -892,7 +893,7 @@ static double identity_run(const scene *sc, const frig_rig *mean, const frig_mod
     CHECK(st.identity_count == 100);
     fr_sfs_run run;
     CHECK(fr_sfs_run_all(ctx, mean, sc->set, &st, &run) == FRIG_OK && run.mesh.ident && run.ident);
-    int nv = frig_rig_vertex_count(mean), nf = 6706 < nv ? 6706 : nv; /* the narrow face */
+    int nv = frig_rig_vertex_count(mean), nf = NARROW_FACE < nv ? NARROW_FACE : nv;
     float *x = malloc(sizeof(float) * 3 * (size_t)nv);
     double c2 = 0;
     for (size_t q = 0; q < 3 * (size_t)nv; q++) x[q] = frig_rig_neutral(mean)[q] + (run.mesh.ident ? run.mesh.ident[q] : 0);
@@ -904,6 +905,7 @@ static double identity_run(const scene *sc, const frig_rig *mean, const frig_mod
     return after;
 }
 
+/* Held, the modes take more of the shape (docs/sfs.md, "The identity first"). */
 static void test_identity(void) {
     const char *dir;
     scene sc;
@@ -915,8 +917,9 @@ static void test_identity(void) {
     double free_change, held_change;
     double free_after = identity_run(&sc, mean, model, 0, &free_change);
     double after = identity_run(&sc, mean, model, -1, &held_change); /* the default hold */
-    double before = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(sc.truth_rig), frig_rig_neutral(mean), 6706);
-    double best = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(sc.truth_rig), frig_rig_neutral(sc.rig), 6706);
+    int nv = frig_rig_vertex_count(mean), nf = NARROW_FACE < nv ? NARROW_FACE : nv;
+    double before = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(sc.truth_rig), frig_rig_neutral(mean), nf);
+    double best = 1e3 * fr_aligned_mean_distance(frig_rig_neutral(sc.truth_rig), frig_rig_neutral(sc.rig), nf);
     printf("identity modes: narrow face's neutral %.3f mm (mean face) -> %.3f mm (|change| %.2f; the displacement "
            "never held: %.3f mm, |change| %.2f); the true identity's %.3f mm\n",
            before, after, held_change, free_after, free_change, best);
