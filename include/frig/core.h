@@ -191,7 +191,7 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_POSE = 615,              /* 1: refine each photo's pose against its depth by ICP (default 0) */
     FRIG_PARAM_SFS_TRANSFER = 616,          /* Reinhard colour transfer of the albedo to each photo: 0 off, 1 means, 2 means and spreads (default 0) */
     FRIG_PARAM_SFS_W_PRIOR = 617,           /* normals held to the multi-view shape's normals (default 10) */
-    FRIG_PARAM_SFS_SHAPE_SIZE = 618,        /* side of the UV grid of the shape shared by all photos (default 128) */
+    FRIG_PARAM_SFS_SHAPE_SIZE = 618,        /* side of the UV grid of the shape shared by all photos (default 96) */
     FRIG_PARAM_SFS_POSE_LEVELS = 619,       /* each photo's pose registered to the shared shape coarse to fine, levels (default 2; 0 off) */
     FRIG_PARAM_SFS_POSE_SIGMA = 620,        /* the registration's finest blur, pixels at a 160-pixel face (default 2) */
     FRIG_PARAM_SFS_STEREO = 621,            /* the shared shape's multi-view term, the photos' own gradients (default 1; 0 off) */

@@ -170,7 +170,7 @@ static const param_row rows[] = {
      "1 the l-alpha-beta means, 2 means and spreads"},
     {FRIG_PARAM_SFS_W_PRIOR, "sfs.w_prior", 10, 0, 1e9, 0,
      "weight holding each photo's normals to those of the shape recovered from all photos"},
-    {FRIG_PARAM_SFS_SHAPE_SIZE, "sfs.shape_size", 128, 16, 2048, 1,
+    {FRIG_PARAM_SFS_SHAPE_SIZE, "sfs.shape_size", 96, 16, 2048, 1,
      "side of the UV grid on which the shape shared by all photos is solved (texels of the model's face layout)"},
     {FRIG_PARAM_SFS_POSE_LEVELS, "sfs.pose_levels", 2, 0, 6, 1,
      "each photo's pose registered to the shared shape and albedo, coarse to fine, with this many blur levels "
