@@ -29,8 +29,7 @@ frig_status fr_sfs_mesh_init(frig_ctx *ctx, const frig_rig *rig, fr_sfs_mesh *m)
     }
     /* the narrow face: a named vertex range (all of the face when the rig has none) */
     int narrow_first = 0, narrow_count = m->nv;
-    for (int r = 0; r < t->region_count; r++)
-        if (strcmp(t->region_names[r], "narrow_face") == 0) narrow_first = t->regions[2 * r], narrow_count = t->regions[2 * r + 1];
+    if (!fr_topology_region(t, "narrow_face", &narrow_first, &narrow_count)) narrow_first = 0, narrow_count = m->nv;
     for (int i = 0; i < t->triangle_count; i++) {
         if (!fr_topology_opaque(t, i)) continue;
         memcpy(m->tris + 3 * (size_t)m->nt, t->triangles + 3 * (size_t)i, sizeof(int32_t) * 3);
