@@ -155,26 +155,7 @@ static void tune_malloc(void) {
 #endif
 }
 
-/* glibc's malloc backs its heap with transparent huge pages only when told so at start-up
- * (GLIBC_TUNABLES=glibc.malloc.hugetlb=1, glibc 2.35 and later; in the kernel's usual "madvise"
- * mode nothing else gets them). The stages write hundreds of megabytes of fresh memory per run,
- * a page fault every 4 KB without them: frig run on lfw_tony_blair 31.6 -> 28.4 s, a small
- * synthetic run's faults 79,000 -> 9,600 (docs/run.md). So frig starts itself once more with the variable
- * set, unless it is set already: the user's own tunables (an empty value turns this off), or
- * this second start. Without /proc it goes on as it started. Sanitized builds use their own
- * allocator and skip it. */
-static void restart_with_huge_pages(char **argv) {
-#if defined(__GLIBC__) && !defined(__SANITIZE_ADDRESS__)
-    if (getenv("GLIBC_TUNABLES") || setenv("GLIBC_TUNABLES", "glibc.malloc.hugetlb=1", 0) != 0) return;
-    execv("/proc/self/exe", argv);
-    unsetenv("GLIBC_TUNABLES");
-#else
-    (void)argv;
-#endif
-}
-
 int main(int argc, char **argv) {
-    restart_with_huge_pages(argv);
     tune_malloc();
     cli_env env = {0};
     env.ctx = frig_ctx_create();

@@ -20,9 +20,8 @@
  * stencil, and recovered by back-substitution, instead of alternated with D); and each photo's
  * pose refined against the shared surface and albedo after each round (6 x 6 Levenberg-Marquardt,
  * the views drawn again at their new poses); and each photo's pose registered coarse to fine
- * (sfs_pose_align.c: blurred photometric and occluding-contour terms, a wider basin) before the
- * first round and after each (the whole pyramid after the first, its finest level after the
- * others).
+ * (sfs_pose_align.c: blurred photometric and occluding-contour terms, a wider basin), the whole
+ * pyramid before the first round and after it.
  * With a model (o->id_count > 0: sfs.identity_modes, 100 by default through frig_sfs_with_model; docs/sfs.md,
  * "The identity's modes in the shared solve") the model's first identity modes are unknowns too: the
  * surface is P_k(t) = X_k(t) + U(t) (beta - beta_s) + D(t) n_k(t), U the modes at the texel, the same
@@ -1379,7 +1378,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
                sqrt(rms / (s.nt ? s.nt : 1)));
         /* the round's pose step (below) draws every view again before the next sampling reads it,
          * so the bake and the expression step need not (nothing between reads the drawing) */
-        int levels = o->pose_levels <= 0 ? 0 : outer == 0 ? o->pose_levels : outer == o->outer - 1 ? 1 : 0;
+        int levels = o->pose_levels <= 0 || outer > 0 ? 0 : o->pose_levels;
         int pose_follows = o->pose_steps > 0 || levels > 0;
         double cb = fr_cpu_seconds();
         if (s.M > 0 && !st) st = ident_bake(ctx, &s, !pose_follows);
@@ -1394,8 +1393,9 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
             update_lighting(&s, k, &child);
         }
         /* each photo's expression against its pixels, then the registration: the whole pyramid
-         * after the first round, its finest level after the last; the rounds between leave the
-         * poses (measured: the same clouds and neutral within noise, docs/sfs.md "The fourth pass") */
+         * after the first round only; the later rounds leave the poses to the pose steps (measured:
+         * the same clouds and neutral within noise, docs/sfs.md "The fourth pass" and "The twelfth
+         * pass") */
         c1 = fr_cpu_seconds(), cpu[CPU_LIGHTING] += c1 - c0, c0 = c1;
         if (o->expression_steps > 0 && !st) st = expression_step(ctx, &s, threads, !pose_follows);
         c1 = fr_cpu_seconds(), cpu[CPU_EXPRESSIONS] += c1 - c0, c0 = c1;
