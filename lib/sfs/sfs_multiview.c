@@ -1185,10 +1185,10 @@ static frig_status joint_pose(frig_ctx *ctx, mv *s, int threads, int steps, int 
     int T = s->uv->size;
     size_t TT = (size_t)T * T;
     float *disp = calloc(TT, sizeof(float)), *vd = malloc(sizeof(float) * ((size_t)s->m->nv + 1));
-    float *tex = s->o->pose_levels > 0 ? calloc(3 * TT, sizeof(float)) : NULL;
-    float *tex_w = s->o->pose_levels > 0 ? calloc(TT, sizeof(float)) : NULL;
-    frig_status st = !disp || !vd || (s->o->pose_levels > 0 && (!tex || !tex_w)) ? fr_nomem(ctx, "the joint pose")
-                                                                                  : FRIG_OK;
+    /* the registration's albedo: only for a round that registers */
+    float *tex = levels > 0 ? calloc(3 * TT, sizeof(float)) : NULL;
+    float *tex_w = levels > 0 ? calloc(TT, sizeof(float)) : NULL;
+    frig_status st = !disp || !vd || (levels > 0 && (!tex || !tex_w)) ? fr_nomem(ctx, "the joint pose") : FRIG_OK;
     for (int t = 0; t < s->nt && !st; t++) disp[s->uv->texel[t]] = (float)(s->D[t] * MM);
     if (tex && tex_w && !st) registration_texture(s, tex, tex_w);
     if (!st) st = fr_sfs_vertex_displacement(ctx, s->m, disp, T, vd);
