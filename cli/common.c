@@ -95,6 +95,8 @@ const char *cli_sfs_solve_words(const frig_photoset *set, char *buf, size_t size
         snprintf(buf, size, "the full shared solve (lights' axis %.3f)", axis);
     else if (solve == FRIG_SFS_SOLVE_LIGHT && !strcmp(why, "one_light_axis"))
         snprintf(buf, size, "the light shared solve: the lights fall on the face along one axis (%.3f)", axis);
+    else if (solve == FRIG_SFS_SOLVE_LIGHT && !strcmp(why, "outer_loop"))
+        snprintf(buf, size, "the light shared solve of the outer loop's last recovery (%d photos judged)", photos);
     else if (solve == FRIG_SFS_SOLVE_LIGHT && !strcmp(why, "few_photos"))
         snprintf(buf, size, "the light shared solve: %d photo%s judged, under sfs.joint_min_photos", photos,
                  photos == 1 ? "" : "s");

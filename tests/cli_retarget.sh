@@ -73,6 +73,8 @@ check '[ "$(cat "$w"/clouds/*.ply | md5sum)" != "$sum_before" ]'   # recovered w
 rounds=$($py -c 'import json,sys; r=json.load(open(sys.argv[1])); print(len(r["retarget"]["rounds"]), sum(1 for p in r["photos"] if "retarget" in p))' "$w/report.json")
 read nr np <<< "$rounds"
 check '[ "$nr" = 2 ] && [ "$np" -ge 3 ]'
+# the recoveries took the light shared solve (retarget.sfs_light, the default), and the record says so
+check '$py -c "import json,sys; b=json.load(open(sys.argv[1]))[\"sfs\"]; sys.exit(0 if (b[\"shared_solve\"], b[\"why\"]) == (\"light\", \"outer_loop\") else 1)" "$w/report.json"'
 # each round started from the identity its clouds were drawn at, and used it: none is left over
 check '$py -c "import json,sys; r=json.load(open(sys.argv[1])); sys.exit(0 if \"identity\" not in r[\"sfs\"] else 1)" "$w/report.json"'
 "$F" --quiet export -w "$w" -o "$tmp/out_sfs" > /dev/null

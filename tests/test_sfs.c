@@ -630,8 +630,8 @@ static void test_solve_report(void) {
     const char *why = "x";
     int photos = -1;
     CHECK(frig_photoset_sfs_solve(set, &photos, NULL, &why) == FRIG_SFS_SOLVE_NONE && photos == 0 && !strcmp(why, ""));
-    const char *names[] = {"", "few_photos", "many_photos", "one_light_axis"};
-    for (int w = 0; w < 4; w++) {
+    const char *names[] = {"", "few_photos", "many_photos", "one_light_axis", "outer_loop"};
+    for (int w = 0; w < 5; w++) {
         fr_photoset_set_sfs_solve(set, w ? FRIG_SFS_SOLVE_LIGHT : FRIG_SFS_SOLVE_FULL, w, 10 + w, 0.25 * w);
         CHECK(frig_photoset_save(ctx, set, dir) == FRIG_OK && frig_photoset_load(ctx, dir, &back) == FRIG_OK);
         double axis = -1;

@@ -270,7 +270,8 @@ typedef enum frig_param {
     FRIG_PARAM_RETARGET_SFS_IDENTITY = 735,  /* 1: start from the identity the clouds were drawn at (sfs's); 0: the rig's (default 1) */
     FRIG_PARAM_RETARGET_RECENTER = 736,      /* quantile of each shape's weights over the photos moved into the neutral (default 0.1; 0: none) */
     FRIG_PARAM_RETARGET_IDENTITY_WEIGHTS_RIDGE = 737, /* the identity fit's ridge on each photo's expression weights, per match (default 0.5) */
-    FRIG_PARAM_RETARGET_IDENTITY_PRIOR_CENTRE = 738 /* the identity's prior centred at this share of the pass's start (default 1; 0: the mean face) */
+    FRIG_PARAM_RETARGET_IDENTITY_PRIOR_CENTRE = 738, /* the identity's prior centred at this share of the pass's start (default 1; 0: the mean face) */
+    FRIG_PARAM_RETARGET_SFS_LIGHT = 739 /* 1: the outer loop recovers the clouds with sfs's light shared solve (default 1) */
 } frig_param;
 
 FRIG_API frig_status frig_ctx_set_param(frig_ctx *ctx, frig_param param, double value);

@@ -347,6 +347,10 @@ static const param_row rows[] = {
     {FRIG_PARAM_RETARGET_SFS_ITERATIONS, "retarget.sfs_iterations", 0, 0, 100, 1,
      "Gauss-Newton iterations of each photo's depth when the outer loop recovers the clouds with the new rig "
      "(0: the sfs stage's own sfs.iterations)"},
+    {FRIG_PARAM_RETARGET_SFS_LIGHT, "retarget.sfs_light", 1, 0, 1, 1,
+     "1: the outer loop recovers the clouds with sfs's light shared solve (no registration, identity modes or "
+     "expression steps; measured: the rounds after the first come out the same as with the full solve, in 40% of its "
+     "time); 0: the solve the sfs stage would take"},
     {FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS, "retarget.sfs_shape_iterations", 0, 0, 100, 1,
      "Gauss-Newton iterations per round of the shape shared by all photos when the outer loop recovers the clouds "
      "(0: the sfs stage's own, sfs.shape_iterations); fewer are faster (2: 0.7 CPU s less per recovery of 91 photos) but measured worse "

@@ -42,6 +42,7 @@ typedef struct fr_sfs_settings {
     int pose_levels;      /* each photo's pose registered coarse to fine with this many blur levels (0: off) */
     int joint_min_photos; /* fewer photos than this: the light shared solve (fr_sfs_light_shared_solve) */
     int joint_max_photos; /* more photos than this (0: no limit): the light shared solve too, for time */
+    int light;            /* 1: the light shared solve whatever the photos (the outer loop's recoveries: why "outer_loop") */
     double joint_light;   /* the lights' concentration on the face above this: the light shared solve too */
     double pose_sigma_px; /* the finest blur level, crop pixels for a 160-pixel face (0: its default, 2) */
     /* each photo's expression refined after each round (sfs.expression_*; sfs_expression.c) */

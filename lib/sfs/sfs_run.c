@@ -202,9 +202,12 @@ frig_status fr_sfs_run_all(frig_ctx *ctx, const frig_rig *rig, const frig_photos
      * slow (docs/sfs.md): the light solve. */
     int few = n < (size_t)(st->joint_min_photos > 0 ? st->joint_min_photos : 0);
     int many = st->joint_max_photos > 0 && n > (size_t)st->joint_max_photos;
-    int light = few || many;
+    int light = few || many || st->light;
     if (light) fr_sfs_light_shared_solve(&r->st);
-    r->light_why = few ? FR_SFS_WHY_FEW_PHOTOS : many ? FR_SFS_WHY_MANY_PHOTOS : FR_SFS_WHY_NONE;
+    r->light_why = few    ? FR_SFS_WHY_FEW_PHOTOS
+                   : many ? FR_SFS_WHY_MANY_PHOTOS
+                   : light ? FR_SFS_WHY_OUTER_LOOP
+                           : FR_SFS_WHY_NONE;
     st = &r->st;
     r->photo = malloc(sizeof(size_t) * (n + 1));
     r->views = calloc(n + 1, sizeof *r->views);

@@ -33,6 +33,7 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->joint_min_photos = fr_param_int(ctx, FRIG_PARAM_SFS_JOINT_MIN_PHOTOS);
     s->joint_max_photos = fr_param_int(ctx, FRIG_PARAM_SFS_JOINT_MAX_PHOTOS);
     s->joint_light = fr_param(ctx, FRIG_PARAM_SFS_JOINT_LIGHT);
+    s->light = 0; /* the outer loop's recoveries ask for the light solve (retarget.sfs_light) */
     s->expression_steps = fr_param_int(ctx, FRIG_PARAM_SFS_EXPRESSION_STEPS);
     s->expression_prior = fr_param(ctx, FRIG_PARAM_SFS_EXPRESSION_PRIOR);
     s->expression_sparse = fr_param(ctx, FRIG_PARAM_SFS_EXPRESSION_SPARSE);

@@ -123,7 +123,7 @@ void fr_photoset_set_sfs(fr_photo *p, int pixels, int kept, double error, const 
 /* Record the identity the clouds were drawn at (NULL: the fit's; n must be set->n_identity). */
 frig_status fr_photoset_set_sfs_identity(frig_ctx *ctx, frig_photoset *set, const double *identity);
 /* Why the sfs stage took the light shared solve (frig_photoset_sfs_solve's why). */
-typedef enum fr_sfs_why { FR_SFS_WHY_NONE = 0, FR_SFS_WHY_FEW_PHOTOS, FR_SFS_WHY_MANY_PHOTOS, FR_SFS_WHY_ONE_LIGHT_AXIS } fr_sfs_why;
+typedef enum fr_sfs_why { FR_SFS_WHY_NONE = 0, FR_SFS_WHY_FEW_PHOTOS, FR_SFS_WHY_MANY_PHOTOS, FR_SFS_WHY_ONE_LIGHT_AXIS, FR_SFS_WHY_OUTER_LOOP } fr_sfs_why;
 /* Record the stage's shared solve (solve: frig_sfs_solve). */
 void fr_photoset_set_sfs_solve(frig_photoset *set, int solve, int why, int photos, double light_axis);
 /* The expression weights (set->n_expressions) sfs drew photo i's cloud at; NULL: the fit's. */

@@ -140,12 +140,12 @@ frig_status fr_photoset_set_sfs_identity(frig_ctx *ctx, frig_photoset *set, cons
     return keep_weights(ctx, &set->sfs_identity, identity, set->n_identity, "the sfs identity");
 }
 
-static const char *const why_names[] = {"", "few_photos", "many_photos", "one_light_axis"};
+static const char *const why_names[] = {"", "few_photos", "many_photos", "one_light_axis", "outer_loop"};
 static const char *const solve_names[] = {"", "full", "light"};
 
 void fr_photoset_set_sfs_solve(frig_photoset *set, int solve, int why, int photos, double light_axis) {
     set->sfs_solve = solve >= FRIG_SFS_SOLVE_FULL && solve <= FRIG_SFS_SOLVE_LIGHT ? solve : FRIG_SFS_SOLVE_NONE;
-    set->sfs_why = set->sfs_solve == FRIG_SFS_SOLVE_LIGHT && why > 0 && why <= FR_SFS_WHY_ONE_LIGHT_AXIS ? why : 0;
+    set->sfs_why = set->sfs_solve == FRIG_SFS_SOLVE_LIGHT && why > 0 && why <= FR_SFS_WHY_OUTER_LOOP ? why : 0;
     set->sfs_photos = set->sfs_solve ? photos : 0;
     set->sfs_light_axis = set->sfs_solve && isfinite(light_axis) ? light_axis : 0;
 }
@@ -173,7 +173,7 @@ frig_status fr_report_read_set_sfs(frig_ctx *ctx, frig_photoset *set, const cJSO
     const cJSON *photos = cJSON_GetObjectItemCaseSensitive(b, "photos");
     const cJSON *axis = cJSON_GetObjectItemCaseSensitive(b, "light_axis");
     int solve = name_index(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(b, "shared_solve")), solve_names, 3);
-    int why = name_index(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(b, "why")), why_names, 4);
+    int why = name_index(cJSON_GetStringValue(cJSON_GetObjectItemCaseSensitive(b, "why")), why_names, 5);
     if (!cJSON_IsObject(b) || solve < FRIG_SFS_SOLVE_FULL || why < 0 || (why > 0 && solve != FRIG_SFS_SOLVE_LIGHT) ||
         !cJSON_IsNumber(photos) || !(photos->valuedouble >= 0 && photos->valuedouble <= 1e9) || !cJSON_IsNumber(axis) ||
         !(axis->valuedouble >= 0 && axis->valuedouble <= 1.5))
