@@ -427,22 +427,25 @@ static int test_mode(frig_ctx *ctx, const char *tool) {
         CHECK(run_trials(ctx, warp, set, donors, 0.2, 5, &opt, planted));
         print_tallies(set->name, 0.2, 5, planted);
         /* Floors from the measured figures with margin (60 frames, 12 planted per seed, 5 seeds;
-         * measured: both P 0.78 R 0.87, texture only P 0.98 R 0.92, shape only P 0.51 R 0.78, 7 of
-         * 60 clean frames dropped). Shapes alone cannot see occlusions (a quarter of the planted
-         * failures), and their heavy-tailed errors drop good frames. */
+         * measured at filter.omega 4: both P 0.93 R 0.83, texture only P 1.00 R 0.67, shape only
+         * P 0.71 R 0.77, 2 of 60 clean frames dropped; at 3, the default until 2026-12-07: both P
+         * 0.77 R 0.93, texture only P 0.98 R 0.92, 5 clean frames dropped). Shapes alone cannot see
+         * occlusions (a quarter of the planted failures), and their heavy-tailed errors drop good
+         * frames. The looser limit misses occlusions that 3 caught (docs/filter.md). */
         CHECK(recall(&planted[BOTH]) >= 0.75);
-        CHECK(precision(&planted[BOTH]) >= 0.65);
-        CHECK(recall(&planted[TEXTURE_ONLY]) >= 0.8);
+        CHECK(precision(&planted[BOTH]) >= 0.8);
+        CHECK(recall(&planted[TEXTURE_ONLY]) >= 0.6);
         CHECK(precision(&planted[TEXTURE_ONLY]) >= 0.85);
         CHECK(recall(&planted[SHAPE_ONLY]) >= 0.6);
         CHECK(planted[SHAPE_ONLY].kind_tp[JAW] == planted[SHAPE_ONLY].kind_n[JAW]);
         CHECK(planted[SHAPE_ONLY].kind_tp[EYES] == planted[SHAPE_ONLY].kind_n[EYES]);
-        CHECK(clean[BOTH].fp <= 10);
+        CHECK(clean[BOTH].fp <= 5);
         CHECK(clean[TEXTURE_ONLY].fp <= 4);
         tally peeled[CONFIGS], small[CONFIGS];
         small_windows(ctx, warp, set, donors, 3, peeled);
         small_windows(ctx, warp, set, donors, fr_param_int(ctx, FRIG_PARAM_FILTER_PEEL_MIN_FACES), small);
-        /* Measured (30 windows, 30 planted): peeling rounds tp 28 fp 55, the default tp 27 fp 19. */
+        /* Measured (30 windows, 30 planted) at filter.omega 4: peeling rounds tp 27 fp 39, the default tp
+         * 27 fp 13 (at 3: tp 28 fp 55 and tp 27 fp 19). */
         CHECK(recall(&small[BOTH]) >= 0.8);
         CHECK(small[BOTH].fp <= 25);
         CHECK(peeled[BOTH].fp >= 2 * small[BOTH].fp);

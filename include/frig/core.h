@@ -131,7 +131,7 @@ typedef enum frig_param {
 
 
     /* filter (section 4.2, Algorithm 1) */
-    FRIG_PARAM_FILTER_OMEGA = 300,          /* drop e > mu + omega * sigma (default 3) */
+    FRIG_PARAM_FILTER_OMEGA = 300,          /* drop e > mu + omega * sigma (default 4) */
     FRIG_PARAM_FILTER_W_TEXTURE = 301,      /* w_t (default 1.0) */
     FRIG_PARAM_FILTER_W_SHAPE = 302,        /* w_s (default 0.1) */
     FRIG_PARAM_FILTER_MAX_ROUNDS = 303,     /* at most this many rounds (default 10) */

@@ -59,8 +59,9 @@ static const param_row rows[] = {
      "1: a 128-D face descriptor for every face found, when face-api's networks are installed (the identity step needs "
      "them)"},
 
-    {FRIG_PARAM_FILTER_OMEGA, "filter.omega", 3.0, 0.1, 100, 0,
-     "drop photos with error > mu + omega * sigma (see filter.robust_stats)"},
+    {FRIG_PARAM_FILTER_OMEGA, "filter.omega", 4.0, 0.1, 100, 0,
+     "drop photos with error > mu + omega * sigma (see filter.robust_stats; 4 since 2026-12-07, 3 dropped "
+     "expressive and turned photos of the subject: docs/filter.md)"},
     {FRIG_PARAM_FILTER_W_TEXTURE, "filter.w_texture", 1.0, 0, 1e6, 0, "weight of the texture error (w_t)"},
     {FRIG_PARAM_FILTER_W_SHAPE, "filter.w_shape", 0.1, 0, 1e6, 0, "weight of the shape error (w_s)"},
     {FRIG_PARAM_FILTER_MAX_ROUNDS, "filter.max_rounds", 10, 1, 1000, 1, "most rounds of outlier removal"},
