@@ -68,7 +68,8 @@ PY
 )
 echo "judged, clouds, clouds from failures, albedo size, pictures, clouds with a margin: $summary"
 read njudged nclouds nbad tw th npics nmargins <<< "$summary"
-check '[ "$nclouds" -ge 4 ] && [ "$nbad" = 0 ] && [ "$tw" = 512 ] && [ "$th" = 512 ] && [ "$npics" = "$njudged" ]'
+# the albedo texture at sfs.texture_size 0: twice sfs.face_px (128) rounded up to a power of two
+check '[ "$nclouds" -ge 4 ] && [ "$nbad" = 0 ] && [ "$tw" = 256 ] && [ "$th" = 256 ] && [ "$npics" = "$njudged" ]'
 check '[ "$nmargins" -ge 1 ]'   # sfs.cloud_region 2: the neck, ears and scalp apart
 # The shared solve moved the identity's modes, all 100 of them by default (sfs.identity_modes; at 40
 # no more than 40 could move): report.json keeps what the clouds were drawn at (the fit's identity

@@ -539,7 +539,11 @@ static void test_stage(void) {
         free_scene(&sc);
         return;
     }
-    CHECK(albedo && frig_image_width(albedo) == (int)frig_ctx_get_param(ctx, FRIG_PARAM_SFS_TEXTURE_SIZE));
+    /* sfs.texture_size 0: the power of two at or above twice sfs.face_px (this scene's 160: 512) */
+    int side = 64;
+    while (side < 2 * frig_ctx_get_param(ctx, FRIG_PARAM_SFS_FACE_PX)) side *= 2;
+    CHECK(frig_ctx_get_param(ctx, FRIG_PARAM_SFS_TEXTURE_SIZE) == 0 && side == 512);
+    CHECK(albedo && frig_image_width(albedo) == side && frig_image_height(albedo) == side);
     double sum = 0;
     int clouds = 0;
     for (int p = 0; p < sc.photos; p++) {

@@ -161,8 +161,9 @@ static const param_row rows[] = {
      "a photo whose luminance rank-correlates less than this with what the subject's albedo and its lighting "
      "predict is sfs_failed"},
     {FRIG_PARAM_SFS_MIN_POINTS, "sfs.min_points", 500, 0, 1e9, 1, "a photo with fewer cloud points is sfs_failed"},
-    {FRIG_PARAM_SFS_TEXTURE_SIZE, "sfs.texture_size", 512, 64, 8192, 1,
-     "side of the subject's albedo texture in the model's UV space (textures/albedo.png)"},
+    {FRIG_PARAM_SFS_TEXTURE_SIZE, "sfs.texture_size", 0, 0, 8192, 1,
+     "side of the subject's albedo texture in the model's UV space (textures/albedo.png); 0: the power of two at "
+     "or above twice sfs.face_px (256 at the default 128), as fine as the photos' crops it is drawn from; at least 64"},
     {FRIG_PARAM_SFS_POSE, "sfs.pose", 0, 0, 1, 1,
      "1: refine each photo's head pose against its recovered depth by ICP after the shared solve's registration "
      "(0: the registration's pose; measured on 17 synth subjects, ICP made the rotations and the clouds worse)"},

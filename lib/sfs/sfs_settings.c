@@ -4,6 +4,16 @@
 #include "sfs/sfs.h"
 #include "workspace/photoset.h"
 
+/* sfs.texture_size, where 0 asks for the power of two at or above twice the face's crop size
+ * (the texture holds no more than the crops it is drawn from: docs/sfs.md, "The albedo texture's
+ * size"), at least 64. */
+static int texture_side(int asked, double face_px) {
+    if (asked > 0) return asked < 64 ? 64 : asked;
+    int side = 64;
+    while (side < 2 * face_px && side < 8192) side *= 2;
+    return side;
+}
+
 void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->face_px = fr_param(ctx, FRIG_PARAM_SFS_FACE_PX);
     s->rounds = fr_param_int(ctx, FRIG_PARAM_SFS_ROUNDS);
@@ -19,7 +29,7 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->min_luma = fr_param(ctx, FRIG_PARAM_SFS_MIN_LUMA);
     s->min_agreement = fr_param(ctx, FRIG_PARAM_SFS_MIN_AGREEMENT);
     s->min_points = fr_param_int(ctx, FRIG_PARAM_SFS_MIN_POINTS);
-    s->texture_size = fr_param_int(ctx, FRIG_PARAM_SFS_TEXTURE_SIZE);
+    s->texture_size = texture_side(fr_param_int(ctx, FRIG_PARAM_SFS_TEXTURE_SIZE), s->face_px);
     s->shape_size = fr_param_int(ctx, FRIG_PARAM_SFS_SHAPE_SIZE);
     s->pose = fr_param_int(ctx, FRIG_PARAM_SFS_POSE);
     s->transfer = fr_param_int(ctx, FRIG_PARAM_SFS_TRANSFER);
