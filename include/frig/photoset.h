@@ -143,8 +143,9 @@ typedef enum frig_sfs_solve {
 } frig_sfs_solve;
 /* The solve; photos: the photos it judged; light_axis: the lights' concentration along one axis
  * (1: one axis, 1/3: spread evenly; the value sfs.joint_light is held against); why: for the light
- * solve "few_photos", "many_photos", "one_light_axis" or "outer_loop" (the outer loop's recovery, retarget.sfs_light), else "" (a static string). Any output may
- * be NULL; with FRIG_SFS_SOLVE_NONE they are 0, 0 and "". */
+ * solve "few_photos", "many_photos", "one_light_axis" or "outer_loop" (the clouds are the outer
+ * loop's last recovery: retarget.sfs_light), else "" (a static string). Any output may be NULL;
+ * with FRIG_SFS_SOLVE_NONE they are 0, 0 and "". */
 FRIG_API frig_sfs_solve frig_photoset_sfs_solve(const frig_photoset *set, int *photos, double *light_axis,
                                                 const char **why);
 

@@ -7,9 +7,10 @@
  * (no registration, identity modes or expression steps): the rounds after the first come out the
  * same as with the full solve in 40% of its time (docs/retarget.md, "The loop's recovery"); the
  * set's record of the solve then says so (report.json's "sfs" block: "light", "outer_loop").
- * Inside frig_retarget_refine the albedo texture (the export's; 2-3 CPU s at 512 texels) is
- * not drawn in every recovery: the recovery keeps its computation and the loop draws the last
- * one's texture when it ends (fr_rt_pending_albedo_finish), the same bytes as before. */
+ * Inside frig_retarget_refine the albedo texture (the export's; 2-3 CPU s at 512 texels, a
+ * quarter of that at the 256 of sfs.texture_size 0) is not drawn in every recovery: the recovery
+ * keeps its computation and the loop draws the last one's texture when it ends
+ * (fr_rt_pending_albedo_finish), the same bytes as before. */
 #include <stdlib.h>
 
 #include "core/clock.h"
