@@ -57,18 +57,26 @@ frig_status fr_rt_pending_albedo_finish(frig_ctx *ctx) {
     return s;
 }
 
-/* One recovery: the sfs stage at settings st with the loop's rig. */
-static frig_status recover(frig_ctx *ctx, const frig_rig *rig, frig_photoset *set, const fr_sfs_settings *st,
-                           frig_image **albedo, frig_clouds **clouds) {
-    frig_image *a = NULL;
+frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
+                                      frig_photoset *set, frig_clouds **clouds) {
+    if (!rig || !set || !clouds) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget_recover_sfs: NULL argument");
+    frig_image **albedo = user, *a = NULL;
     frig_clouds *c = NULL;
+    fr_sfs_settings st;
+    fr_sfs_settings_from_ctx(ctx, &st);
+    fr_sfs_settings_identity(ctx, &st, model, set);
+    int iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_ITERATIONS);
+    if (iterations > 0) st.iterations = iterations;
+    int shape_iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS);
+    if (shape_iterations > 0) st.shape_iterations = shape_iterations; /* 0: sfs.shape_iterations */
+    st.light = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_LIGHT);
     if (albedo && ctx->rt_defer_albedo) {
         /* the texture when the loop ends, from the last recovery's computation; the previous
          * round's is dropped first, so that only one is ever held */
         fr_rt_pending_albedo_drop(ctx);
         pending_albedo *q = calloc(1, sizeof *q);
         if (!q) return fr_nomem(ctx, "the outer loop's albedo");
-        frig_status s = fr_sfs_stage_keep(ctx, rig, set, st, &c, &q->run);
+        frig_status s = fr_sfs_stage_keep(ctx, rig, set, &st, &c, &q->run);
         if (s) {
             free(q);
             return s;
@@ -80,7 +88,7 @@ static frig_status recover(frig_ctx *ctx, const frig_rig *rig, frig_photoset *se
         *clouds = c;
         return FRIG_OK;
     }
-    frig_status s = fr_sfs_stage(ctx, rig, set, st, NULL, &c, albedo ? &a : NULL);
+    frig_status s = fr_sfs_stage(ctx, rig, set, &st, NULL, &c, albedo ? &a : NULL);
     if (s) return s;
     frig_clouds_free(*clouds);
     *clouds = c;
@@ -89,19 +97,4 @@ static frig_status recover(frig_ctx *ctx, const frig_rig *rig, frig_photoset *se
         *albedo = a;
     }
     return FRIG_OK;
-}
-
-frig_status frig_retarget_recover_sfs(void *user, frig_ctx *ctx, const frig_model *model, const frig_rig *rig,
-                                      frig_photoset *set, frig_clouds **clouds) {
-    if (!rig || !set || !clouds) return fr_error(ctx, FRIG_ERR_INVALID_ARGUMENT, "frig_retarget_recover_sfs: NULL argument");
-    frig_image **albedo = user;
-    fr_sfs_settings st;
-    fr_sfs_settings_from_ctx(ctx, &st);
-    fr_sfs_settings_identity(ctx, &st, model, set);
-    int iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_ITERATIONS);
-    if (iterations > 0) st.iterations = iterations;
-    int shape_iterations = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_SHAPE_ITERATIONS);
-    if (shape_iterations > 0) st.shape_iterations = shape_iterations; /* 0: sfs.shape_iterations */
-    st.light = fr_param_int(ctx, FRIG_PARAM_RETARGET_SFS_LIGHT);
-    return recover(ctx, rig, set, &st, albedo, clouds);
 }
