@@ -215,6 +215,8 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_DISPLACEMENT_HOLD = 636, /* with identity modes, the shared displacement held to zero by this in
                                              * the first half of the rounds, so that the modes take the shape first
                                              * (default 100; 0: the shared solve's anchor, 0.05, throughout) */
+    FRIG_PARAM_SFS_HIGHLIGHTS = 637,        /* skin pixels whiter than the photo's skin by more than this many robust
+                                             * deviations lose their white part, the highlight (default 2; 0: off) */
 
     /* identity (frig/identity.h) */
     FRIG_PARAM_IDENTITY_THRESHOLD = 800,    /* a photo whose nearest face is farther is other_person (default 0.5) */

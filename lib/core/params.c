@@ -223,6 +223,10 @@ static const param_row rows[] = {
      "with the identity's modes (sfs.identity_modes), weight holding the shared displacement to zero (per texel, "
      "mm^2) in the first half of the shared solve's rounds, so that the modes make the shape first and the "
      "displacement only what they cannot in the later rounds (0.05 there); 0: 0.05 in every round"},
+    {FRIG_PARAM_SFS_HIGHLIGHTS, "sfs.highlights", 2, 0, 100, 0,
+     "specular highlights taken out of each photo's skin pixels before the stage reads them: a pixel whose white "
+     "share (the dichromatic model: the skin's chroma plus white) lies more than this many robust standard "
+     "deviations above the photo's median share loses its white part; 0: the pixels as they are"},
     {FRIG_PARAM_SFS_JOINT_LIGHT, "sfs.joint_light", 0.95, 0, 1, 0,
      "when the photos' lights, turned into the head's frame, are closer to one axis than this (the largest "
      "eigenvalue of the mean outer product of their directions; 1 = one axis, as frames of a video under one "

@@ -59,6 +59,7 @@ typedef struct fr_sfs_settings {
     double identity_prior;
     double identity_centre;
     double displacement_hold; /* the shared displacement's anchor in the first half of the rounds (identity modes) */
+    double highlights;        /* skin pixels this many robust deviations whiter than the skin lose their white part (sfs_highlights.c; 0: off) */
     const double *identity_start;
 } fr_sfs_settings;
 
@@ -136,6 +137,7 @@ typedef struct fr_sfs_view {
     uint8_t *kept;       /* region selection (eq. 5.15): 1 the cloud's, 2 its margin's (fr_sfs_region_narrow) */
     float *confidence;
     int face_pixels, data_pixels, kept_pixels, margin_pixels;
+    int highlight_pixels; /* skin pixels whose white part was taken out (sfs_highlights.c) */
     double sfs_error;    /* median relative shading error over the skin pixels */
     double agreement;    /* correlation of the photo's albedo with the subject's */
     double photo_weight; /* weight of the photo's observations in the shared albedo and shape (from agreement) */

@@ -1,7 +1,7 @@
-/* One photo's steps of shape from shading (paper Algorithm 4 for photo k): the skin region and
- * the first lighting on the fitted normals with a uniform albedo (the mean skin colour, section
- * 5.1.2); lighting again on the current albedo and normals (line 11); depth and normals
- * (lines 12-13, 17-18). */
+/* One photo's steps of shape from shading (paper Algorithm 4 for photo k): the skin region, its
+ * highlights taken out (sfs_highlights.c, beyond the paper), the first lighting on the fitted normals
+ * with a uniform albedo (the mean skin colour, section 5.1.2); lighting again on the current albedo
+ * and normals (line 11); depth and normals (lines 12-13, 17-18). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -12,9 +12,9 @@
 #include "sfs/sfs.h"
 #include "sfs/sfs_depth.h"
 #include "sfs/sfs_photo.h"
+#include "sfs/sfs_highlights.h"
 
 frig_status fr_sfs_photo_prepare(frig_ctx *ctx, fr_sfs_view *v, const fr_sfs_settings *st) {
-    (void)st;
     size_t n = (size_t)v->w * v->h;
     fr_skin_options so;
     fr_skin_options_default(&so);
@@ -22,6 +22,8 @@ frig_status fr_sfs_photo_prepare(frig_ctx *ctx, fr_sfs_view *v, const fr_sfs_set
     so.slic_step = (int)fmax(4.0, round(fmax(v->w, v->h) / 16.0));
     frig_status s = fr_skin_detect(ctx, v->rgb, v->w, v->h, 3 * (size_t)v->w, v->face, v->core, &so, v->skin,
                                    &v->skin_stats);
+    if (s) return s;
+    s = fr_sfs_take_out_highlights(ctx, v, st->highlights, &v->highlight_pixels);
     if (s) return s;
     v->face_pixels = v->skin_stats.region;
     for (size_t i = 0; i < n; i++)

@@ -77,6 +77,8 @@ static frig_status prepare_one(frig_ctx *ctx, size_t k, void *user) {
         return FRIG_OK;
     }
     const fr_skin_stats *ss = &v->skin_stats;
+    if (v->highlight_pixels > 0)
+        fr_log(ctx, FRIG_LOG_DEBUG, "sfs: photo %zu: the highlights of %d skin pixels taken out", v->photo, v->highlight_pixels);
     char why[256];
     double region = ss->region > 0 ? ss->region : 1;
     if (ss->region < 100) {

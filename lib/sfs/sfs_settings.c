@@ -53,6 +53,7 @@ void fr_sfs_settings_from_ctx(const frig_ctx *ctx, fr_sfs_settings *s) {
     s->identity_prior = fr_param(ctx, FRIG_PARAM_SFS_IDENTITY_PRIOR);
     s->identity_centre = fr_param(ctx, FRIG_PARAM_SFS_IDENTITY_PRIOR_CENTRE);
     s->displacement_hold = fr_param(ctx, FRIG_PARAM_SFS_DISPLACEMENT_HOLD);
+    s->highlights = fr_param(ctx, FRIG_PARAM_SFS_HIGHLIGHTS);
 }
 
 void fr_sfs_settings_identity(const frig_ctx *ctx, fr_sfs_settings *s, const frig_model *model, const frig_photoset *set) {
