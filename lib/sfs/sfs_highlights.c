@@ -50,11 +50,13 @@ int fr_sfs_skin_chroma(const fr_sfs_view *v, double d[3]) {
     return 1;
 }
 
-double fr_sfs_white_part(const double d[3], const float I[3], double *k) {
+/* The white part s of a colour I split by least squares into k d + s (1, 1, 1), d a unit chroma not
+ * grey (k into *k). */
+static double white_part(const double d[3], const float I[3], double *k) {
     /* the normal equations of I = k d + s w, w = (1, 1, 1): d.d = 1, w.w = 3 */
     double dw = d[0] + d[1] + d[2], det = 3.0 - dw * dw;
     double dI = d[0] * I[0] + d[1] * I[1] + d[2] * I[2], wI = (double)I[0] + I[1] + I[2];
-    if (k) *k = (3.0 * dI - dw * wI) / det;
+    *k = (3.0 * dI - dw * wI) / det;
     return (wI - dw * dI) / det;
 }
 
@@ -74,7 +76,7 @@ static double white_share(const fr_sfs_view *v, const double d[3], size_t i, dou
     const float *I = v->I + 3 * i;
     double sum = (double)I[0] + I[1] + I[2];
     if (!(sum > CHROMA_FLOOR)) return NAN;
-    *s = fr_sfs_white_part(d, I, k);
+    *s = white_part(d, I, k);
     return 3.0 * *s / sum;
 }
 

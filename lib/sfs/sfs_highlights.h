@@ -9,10 +9,6 @@
  * read; -1 on no memory. */
 int fr_sfs_skin_chroma(const fr_sfs_view *v, double d[3]);
 
-/* The white part s of a colour I split by least squares into k d + s (1, 1, 1), d a unit chroma not
- * grey (k into *k when k is not NULL). */
-double fr_sfs_white_part(const double d[3], const float I[3], double *k);
-
 /* Every skin pixel of v->I split into k d + s (1, 1, 1), d the skin's chroma; where the white share
  * 3 s / (I_r + I_g + I_b) lies more than nsig robust standard deviations (1.4826 MAD) above the photo's
  * median share over its skin, s is taken out of each channel. Nothing when nsig <= 0, when the skin's
