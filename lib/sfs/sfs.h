@@ -149,6 +149,11 @@ typedef struct fr_sfs_view {
     double drawn_R[9], drawn_t[3];
     double *drawn_weights;
     float *drawn_disp, *drawn_ident;
+    /* the rig at those weights with that displacement and identity change, head frame (3 nv; valid
+     * while shaped, which drawn implies): a drawing that changes only the pose (the registration's
+     * and the pose steps') starts from it instead of evaluating the rig and its normals again */
+    int shaped;
+    float *drawn_xyz;
 } fr_sfs_view;
 
 /* Read photo p of the set, crop it around the face and render the rig at the photo's fit into
@@ -163,6 +168,12 @@ void fr_sfs_view_free(fr_sfs_view *v);
  * normal of the rig at the view's weights (the subject's shape from all photos). */
 frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view *v, const double R[9],
                                const double t[3], const float *disp);
+
+/* For the view's next drawing with disp (fr_sfs_view_render): the rig at the view's weights and
+ * the mesh's identity change now, xyz (head frame), with its normals nrm (fr_sfs_mesh_normals),
+ * displaced and kept, so that the drawing need not evaluate them again (the same floats). Without
+ * memory, nothing is kept. */
+void fr_sfs_view_keep_rig(const fr_sfs_mesh *m, fr_sfs_view *v, const float *disp, const float *xyz, const float *nrm);
 
 /* ---- region selection (eq. 5.15; sfs_region.c) and the pose (sfs_pose.c) ---- */
 /* v->kept and v->confidence from v->err, v->z, v->z_ref (st->e_max, st->d_max_mm). */

@@ -162,10 +162,11 @@ static void interp(const float *attr, const int32_t *tri, const float *b, double
         for (int q = 0; q < 3; q++) out[q] += b[c] * attr[3 * (size_t)tri[c] + q];
 }
 
-/* The photo's texel points and normals at its expression (head frame). */
-static frig_status photo_geometry(frig_ctx *ctx, mv *s, int k) {
+/* The photo's texel points and normals at its expression (head frame); with vd (may be NULL), the
+ * rig kept for the view's next drawing with that displacement (fr_sfs_view_keep_rig). */
+static frig_status photo_geometry(frig_ctx *ctx, mv *s, int k, const float *vd) {
     const fr_sfs_mesh *m = s->m;
-    const fr_sfs_view *v = &s->views[k];
+    fr_sfs_view *v = &s->views[k];
     photo_texels *p = &s->pt[k];
     float *xyz = malloc(sizeof(float) * 3 * (size_t)m->nv), *nrm = malloc(sizeof(float) * 3 * (size_t)m->nv);
     if (!xyz || !nrm) {
@@ -183,6 +184,7 @@ static frig_status photo_geometry(frig_ctx *ctx, mv *s, int k) {
         double l = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
         for (int q = 0; q < 3; q++) p->X[3 * t + q] = (float)X[q], p->n[3 * t + q] = (float)(l > 0 ? n[q] / l : 0);
     }
+    if (vd) fr_sfs_view_keep_rig(m, v, vd, xyz, nrm);
     free(xyz), free(nrm);
     return FRIG_OK;
 }
@@ -792,7 +794,9 @@ static frig_status ident_bake(frig_ctx *ctx, mv *s, int redraw) {
         fr_ctx_init_child(&child, ctx);
         double R[9], t[3];
         memcpy(R, s->views[k].R, sizeof R), memcpy(t, s->views[k].t, sizeof t);
-        if (photo_geometry(&child, s, k) || (redraw && fr_sfs_view_render(&child, m, &s->views[k], R, t, vd))) failed = 1;
+        if (photo_geometry(&child, s, k, redraw ? vd : NULL) ||
+            (redraw && fr_sfs_view_render(&child, m, &s->views[k], R, t, vd)))
+            failed = 1;
         else photo_base(s, k);
     }
     if (failed && !st) st = fr_nomem(ctx, "the identity change");
@@ -1140,7 +1144,8 @@ static frig_status expression_step(frig_ctx *ctx, mv *s, int threads, int redraw
         double R[9], t[3];
         memcpy(R, v->R, sizeof R), memcpy(t, v->t, sizeof t);
         /* without redraw the pose step that follows draws the view again itself */
-        if (photo_geometry(&child, s, k) || (redraw && fr_sfs_view_render(&child, s->m, v, R, t, vd)))
+        /* the drawing that follows (here or in the pose step) is with vd at these weights */
+        if (photo_geometry(&child, s, k, vd) || (redraw && fr_sfs_view_render(&child, s->m, v, R, t, vd)))
             failed = 1;
         else
             photo_base(s, k);
@@ -1292,7 +1297,7 @@ frig_status fr_sfs_multiview(frig_ctx *ctx, const fr_sfs_mesh *m, const fr_sfs_u
     int failed = 0;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int k = 0; k < nviews; k++)
-        if (use[k] && !st && photo_geometry(ctx, &s, k)) failed = 1;
+        if (use[k] && !st && photo_geometry(ctx, &s, k, NULL)) failed = 1;
     if (failed && !st) st = fr_nomem(ctx, "the multi-view solve");
     /* the grid's orientation against the rig's neutral normals (the first used photo's) */
     int k0 = 0;

@@ -22,7 +22,7 @@ void fr_sfs_view_free(fr_sfs_view *v) {
     free(v->weights), free(v->xyz_cam), free(v->vn_cam), free(v->zbuf), free(v->n_prior), free(v->I), free(v->rgb), free(v->inside);
     free(v->z_ref), free(v->z_fit), free(v->n_ref), free(v->tri), free(v->bary), free(v->face), free(v->core), free(v->skin);
     free(v->albedo), free(v->z), free(v->normal), free(v->err), free(v->kept), free(v->confidence);
-    free(v->drawn_weights), free(v->drawn_disp), free(v->drawn_ident);
+    free(v->drawn_weights), free(v->drawn_disp), free(v->drawn_ident), free(v->drawn_xyz);
     memset(v, 0, sizeof *v);
 }
 
@@ -59,13 +59,44 @@ static int same_floats(const float *a, const float *b, size_t n) {
     return !a == !b && (!a || !memcmp(a, b, sizeof(float) * n));
 }
 
+/* Whether the view's last drawing was of the rig with its weights, the mesh's identity change now
+ * and disp (at whatever pose): then drawn_xyz holds that rig in the head frame. */
+static int drawn_shape(const fr_sfs_mesh *m, const fr_sfs_view *v, const float *disp) {
+    return v->shaped && !memcmp(v->drawn_weights, v->weights, sizeof(double) * (size_t)m->shapes) &&
+           same_floats(v->drawn_disp, disp, (size_t)m->nv) && same_floats(v->drawn_ident, m->ident, 3 * (size_t)m->nv);
+}
+
 /* Whether the view's buffers hold the drawing of the rig at (R, t, disp) with its weights and the
  * mesh's identity change now. */
 static int drawn_already(const fr_sfs_mesh *m, const fr_sfs_view *v, const double R[9], const double t[3],
                          const float *disp) {
     return v->drawn && !memcmp(v->drawn_R, R, sizeof v->drawn_R) && !memcmp(v->drawn_t, t, sizeof v->drawn_t) &&
-           !memcmp(v->drawn_weights, v->weights, sizeof(double) * (size_t)m->shapes) &&
-           same_floats(v->drawn_disp, disp, (size_t)m->nv) && same_floats(v->drawn_ident, m->ident, 3 * (size_t)m->nv);
+           drawn_shape(m, v, disp);
+}
+
+/* Whether disp moves a vertex off the face (then the displacement follows the whole mesh's normals). */
+static int off_face(const fr_sfs_mesh *m, const float *disp) {
+    for (int i = 0; i < m->nv; i++)
+        if (disp[i] != 0 && !m->face_vertex[i]) return 1;
+    return 0;
+}
+
+/* xyz (3 nv) moved by disp along the normals nrm. */
+static void displace(const fr_sfs_mesh *m, const float *disp, const float *nrm, float *xyz) {
+    for (int i = 0; i < m->nv; i++)
+        for (int k = 0; k < 3; k++) xyz[3 * (size_t)i + k] += disp[i] * nrm[3 * (size_t)i + k];
+}
+
+/* The rig at the view's weights, displaced by disp along its normals (head frame) into xyz; nrm
+ * (3 nv) is scratch. */
+static void posed_rig(const fr_sfs_mesh *m, const fr_sfs_view *v, const float *disp, float *xyz, float *nrm) {
+    fr_sfs_mesh_eval(m, v->weights, xyz);
+    if (!disp) return;
+    /* the subject's displacement along the normals at this expression (the face's vertices
+     * only, unless a caller moves others) */
+    if (off_face(m, disp)) fr_mesh_vertex_normals(xyz, m->nv, m->tris, m->nt, nrm);
+    else fr_sfs_mesh_normals(m, xyz, nrm);
+    displace(m, disp, nrm, xyz);
 }
 
 /* A copy of n floats into *keep (allocated once; NULL when src is); 0 when out of memory. */
@@ -79,16 +110,33 @@ static int keep_floats(float **keep, const float *src, size_t n) {
     return 1;
 }
 
-/* The drawing's inputs recorded (drawn_already); without memory, none (drawn 0). */
-static void record_drawing(const fr_sfs_mesh *m, fr_sfs_view *v, const double R[9], const double t[3],
-                           const float *disp) {
-    v->drawn = 0;
+/* The rig's inputs recorded (drawn_shape: drawn_xyz holds it); without memory, none (shaped 0). */
+static void record_shape(const fr_sfs_mesh *m, fr_sfs_view *v, const float *disp) {
+    v->drawn = v->shaped = 0;
     if (!v->drawn_weights && !(v->drawn_weights = malloc(sizeof(double) * ((size_t)m->shapes + 1)))) return;
     if (!keep_floats(&v->drawn_disp, disp, (size_t)m->nv) || !keep_floats(&v->drawn_ident, m->ident, 3 * (size_t)m->nv))
         return;
     memcpy(v->drawn_weights, v->weights, sizeof(double) * (size_t)m->shapes);
+    v->shaped = 1;
+}
+
+/* The drawing's inputs recorded (drawn_already); without memory, none (drawn 0). */
+static void record_drawing(const fr_sfs_mesh *m, fr_sfs_view *v, const double R[9], const double t[3],
+                           const float *disp) {
+    record_shape(m, v, disp);
+    if (!v->shaped) return;
     memcpy(v->drawn_R, R, sizeof v->drawn_R), memcpy(v->drawn_t, t, sizeof v->drawn_t);
     v->drawn = 1;
+}
+
+void fr_sfs_view_keep_rig(const fr_sfs_mesh *m, fr_sfs_view *v, const float *disp, const float *xyz, const float *nrm) {
+    if (disp && drawn_shape(m, v, disp)) return; /* kept already (and maybe drawn: the buffers stay valid) */
+    v->drawn = v->shaped = 0;
+    if (!disp || off_face(m, disp)) return; /* posed_rig's other normals: left to the drawing */
+    if (!v->drawn_xyz && !(v->drawn_xyz = malloc(sizeof(float) * 3 * (size_t)m->nv))) return;
+    memcpy(v->drawn_xyz, xyz, sizeof(float) * 3 * (size_t)m->nv);
+    displace(m, disp, nrm, v->drawn_xyz);
+    record_shape(m, v, disp);
 }
 
 frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view *v, const double R[9],
@@ -97,22 +145,16 @@ frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view 
         memcpy(v->R, R, sizeof v->R), memcpy(v->t, t, sizeof v->t);
         return FRIG_OK;
     }
+    /* only the pose changed since the last drawing: the rig as it was (the same floats) */
+    int same_shape = drawn_shape(m, v, disp) && v->drawn_xyz;
     v->drawn = 0;
-    float *xyz = malloc(sizeof(float) * 3 * (size_t)m->nv), *nrm = v->vn_cam;
+    if (!same_shape) v->shaped = 0;
+    float *xyz = v->drawn_xyz, *nrm = v->vn_cam;
+    if (!xyz) xyz = v->drawn_xyz = malloc(sizeof(float) * 3 * (size_t)m->nv);
     fr_raster *r = NULL;
     frig_status s = !xyz ? fr_nomem(ctx, "the posed rig") : FRIG_OK;
     if (!s) {
-        fr_sfs_mesh_eval(m, v->weights, xyz);
-        if (disp) {
-            /* the subject's displacement along the normals at this expression (the face's vertices
-             * only, unless a caller moves others) */
-            int off_face = 0;
-            for (int i = 0; i < m->nv && !off_face; i++) off_face = disp[i] != 0 && !m->face_vertex[i];
-            if (off_face) fr_mesh_vertex_normals(xyz, m->nv, m->tris, m->nt, nrm);
-            else fr_sfs_mesh_normals(m, xyz, nrm);
-            for (int i = 0; i < m->nv; i++)
-                for (int k = 0; k < 3; k++) xyz[3 * (size_t)i + k] += disp[i] * nrm[3 * (size_t)i + k];
-        }
+        if (!same_shape) posed_rig(m, v, disp, xyz, nrm);
         fr_transform_points(R, t, xyz, m->nv, v->xyz_cam);
         s = fr_raster_create(ctx, v->w, v->h, &r);
     }
@@ -148,7 +190,6 @@ frig_status fr_sfs_view_render(frig_ctx *ctx, const fr_sfs_mesh *m, fr_sfs_view 
     }
     if (!s) record_drawing(m, v, R, t, disp);
     fr_raster_free(r);
-    free(xyz);
     return s;
 }
 
