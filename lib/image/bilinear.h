@@ -6,13 +6,15 @@
 #include <math.h>
 #include <stddef.h>
 
+#include "core/floor_int.h"
+
 static inline int fr_clamp_index(int v, int n) { return v < 0 ? 0 : v >= n ? n - 1 : v; }
 
 /* Bilinear sample of a w x h RGB image at xy, the border repeated; the four corners summed in the
  * order (x0, y0), (x1, y0), (x0, y1), (x1, y1). Inline: the shape-from-shading and outline
  * loops call it per texel and pixel. */
 static inline void fr_bilinear3(const float *img, int w, int h, const double xy[2], double out[3]) {
-    int x0 = (int)floor(xy[0]), y0 = (int)floor(xy[1]);
+    int x0 = fr_floor_int(xy[0]), y0 = fr_floor_int(xy[1]);
     double fx = xy[0] - x0, fy = xy[1] - y0;
     int xa = fr_clamp_index(x0, w), xb = fr_clamp_index(x0 + 1, w);
     size_t ra = (size_t)fr_clamp_index(y0, h) * w, rb = (size_t)fr_clamp_index(y0 + 1, h) * w;

@@ -47,6 +47,7 @@
 
 #include "core/clock.h"
 #include "core/context.h"
+#include "core/floor_int.h"
 #include "core/v2d.h"
 #include "linalg/linalg.h"
 #include "linalg/weighted_rows.h"
@@ -206,7 +207,7 @@ static void photo_sample(mv *s, int k) {
         fr_mat3_apply(v->R, P, X);
         for (int q = 0; q < 3; q++) X[q] += v->t[q];
         if (!fr_camera_project(&v->cam, X, xy)) continue;
-        int px = (int)floor(xy[0] + 0.5), py = (int)floor(xy[1] + 0.5);
+        int px = fr_floor_int(xy[0] + 0.5), py = fr_floor_int(xy[1] + 0.5);
         if (px < 0 || py < 0 || px >= v->w || py >= v->h) continue;
         size_t i = (size_t)py * v->w + px;
         if (!v->skin[i] || !v->face[i] || !(v->zbuf[i] > 0) || X[2] > v->zbuf[i] + VISIBLE_TOL) continue;

@@ -6,6 +6,7 @@
 #include <string.h>
 
 #include "core/context.h"
+#include "core/floor_int.h"
 #include "raster/raster.h"
 #include "sfs/sfs_uv.h"
 
@@ -74,7 +75,7 @@ int fr_sfs_uv_locate(const fr_sfs_uv *uv, const fr_sfs_mesh *m, const fr_sfs_vie
         for (int j = 0; j < 3; j++) X[j] += b[c] * p[j];
     }
     if (!fr_camera_project(&v->cam, X, xy)) return 0;
-    int px = (int)floor(xy[0] + 0.5), py = (int)floor(xy[1] + 0.5);
+    int px = fr_floor_int(xy[0] + 0.5), py = fr_floor_int(xy[1] + 0.5);
     if (px < 0 || py < 0 || px >= v->w || py >= v->h) return 0;
     size_t i = (size_t)py * v->w + px;
     if (depth) *depth = X[2];
@@ -97,7 +98,7 @@ int fr_sfs_uv_at_pixel(const fr_sfs_mesh *m, const fr_sfs_view *v, size_t i, dou
 
 int fr_sfs_texture_sample(const float *tex, const float *weight, int T, int dim, const double uv[2], float *out) {
     double x = uv[0] * T - 0.5, y = (1.0 - uv[1]) * T - 0.5;
-    int x0 = (int)floor(x), y0 = (int)floor(y);
+    int x0 = fr_floor_int(x), y0 = fr_floor_int(y);
     double fx = x - x0, fy = y - y0, acc[8] = {0}, wsum = 0;
     for (int j = 0; j < 2; j++)
         for (int i = 0; i < 2; i++) {
