@@ -925,15 +925,35 @@ static void update_lighting(mv *s, int k, frig_ctx *ctx) {
  * albedo, sampling the photo at each texel's projection; with H (6 x 6, row-major) and g (6)
  * when H is given, for the perturbation R' = exp([w]) R, t' = t + dt (w about the head's origin
  * in camera axes). */
-static double pose_terms(const mv *s, int k, const double R[9], const double tv[3], double *H, double *g) {
+/* A texel's part of the pose term that does not depend on the pose: its unit normal and displaced
+ * point (head frame); ok 0 when it has no weight or normal. */
+typedef struct pose_texel {
+    double N[3], P[3];
+    int ok;
+} pose_texel;
+
+/* Photo k's pose_texel for each texel into pt: update_pose's every evaluation reads them (the
+ * same floats as computing them in each). */
+static void pose_texels(const mv *s, int k, pose_texel *pt) {
+    const photo_texels *p = &s->pt[k];
+    for (int t = 0; t < s->nt; t++) {
+        pose_texel *x = &pt[t];
+        x->ok = p->w[t] > 0 && texel_normal(s, s->D, k, t, x->N, NULL);
+        if (!x->ok) continue;
+        for (int c = 0; c < 3; c++) x->P[c] = p->X[3 * t + c] + s->D[t] * MM * p->n[3 * t + c];
+    }
+}
+
+static double pose_terms(const mv *s, int k, const pose_texel *pt, const double R[9], const double tv[3], double *H,
+                         double *g) {
     const fr_sfs_view *v = &s->views[k];
     const photo_texels *p = &s->pt[k];
     if (H) memset(H, 0, 36 * sizeof *H), memset(g, 0, 6 * sizeof *g);
     double e = 0;
     for (int t = 0; t < s->nt; t++) {
-        double N[3], P[3], q[3], Xc[3], xy[2];
-        if (!(p->w[t] > 0) || !texel_normal(s, s->D, k, t, N, NULL)) continue;
-        for (int c = 0; c < 3; c++) P[c] = p->X[3 * t + c] + s->D[t] * MM * p->n[3 * t + c];
+        double q[3], Xc[3], xy[2];
+        if (!pt[t].ok) continue;
+        const double *N = pt[t].N, *P = pt[t].P;
         fr_mat3_apply(R, P, q);
         for (int c = 0; c < 3; c++) Xc[c] = q[c] + tv[c];
         if (!fr_camera_project(&v->cam, Xc, xy)) continue;
@@ -979,14 +999,18 @@ static double pose_terms(const mv *s, int k, const double R[9], const double tv[
     return e;
 }
 
-/* A few Levenberg-Marquardt steps of photo k's pose against the shared surface and albedo. */
-static void update_pose(mv *s, int k, int steps) {
+/* A few Levenberg-Marquardt steps of photo k's pose against the shared surface and albedo; 0 when
+ * out of memory (the pose unchanged). */
+static int update_pose(mv *s, int k, int steps) {
     fr_sfs_view *v = &s->views[k];
     double R[9], tv[3], H[36], g[6], mu = 1e-3;
+    pose_texel *pt = malloc(sizeof(pose_texel) * ((size_t)s->nt + 1));
+    if (!pt) return 0;
+    pose_texels(s, k, pt);
     memcpy(R, v->R, sizeof R), memcpy(tv, v->t, sizeof tv);
-    double e = pose_terms(s, k, R, tv, NULL, NULL);
+    double e = pose_terms(s, k, pt, R, tv, NULL, NULL);
     for (int it = 0; it < steps; it++) {
-        pose_terms(s, k, R, tv, H, g);
+        pose_terms(s, k, pt, R, tv, H, g);
         int done = 0;
         for (int tries = 0; tries < 6 && !done; tries++) {
             double A[36], b[6];
@@ -1020,7 +1044,7 @@ static void update_pose(mv *s, int k, int steps) {
             fr_rotation_from_axis_angle(b, dR);
             fr_mat3_mul(dR, R, R2);
             for (int c = 0; c < 3; c++) t2[c] = tv[c] + b[3 + c];
-            double e2 = pose_terms(s, k, R2, t2, NULL, NULL);
+            double e2 = pose_terms(s, k, pt, R2, t2, NULL, NULL);
             if (e2 < e) {
                 memcpy(R, R2, sizeof R), memcpy(tv, t2, sizeof tv);
                 e = e2, mu *= 0.3, done = 1;
@@ -1029,6 +1053,8 @@ static void update_pose(mv *s, int k, int steps) {
         if (!done) break;
     }
     memcpy(v->R, R, sizeof R), memcpy(v->t, tv, sizeof tv);
+    free(pt);
+    return 1;
 }
 
 static int cmp_float(const void *x, const void *y) {
@@ -1210,7 +1236,7 @@ static frig_status joint_pose(frig_ctx *ctx, mv *s, int threads, int steps, int 
         fr_ctx_init_child(&child, ctx);
         if (ao.levels > 0 && fr_sfs_pose_align(&child, s->m, &s->views[k], vd, tex, tex_w, T, &ao, NULL)) failed = 1;
         if (steps <= 0) continue;
-        update_pose(s, k, steps);
+        if (!update_pose(s, k, steps)) failed = 1;
         double R[9], t[3];
         memcpy(R, s->views[k].R, sizeof R), memcpy(t, s->views[k].t, sizeof t);
         if (fr_sfs_view_render(&child, s->m, &s->views[k], R, t, vd)) failed = 1;
