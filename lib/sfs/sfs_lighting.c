@@ -27,9 +27,8 @@
 #define DIRECTIONS 400 /* the coarse sphere of light directions */
 #define REFINE 3       /* rounds of the local search around the best */
 
-void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[3]) {
-    double nd[3] = {n[0], n[1], n[2]}, y[FR_SH_COUNT];
-    fr_sh_basis(nd, y);
+/* The shading for SH basis y (clamped at 0). */
+static void shading_at(const double sh[3][FR_SH_COUNT], const double y[FR_SH_COUNT], double S[3]) {
     for (int c = 0; c < 3; c++) {
         double e = 0;
         for (int k = 0; k < FR_SH_COUNT; k++) e += sh[c][k] * y[k];
@@ -37,18 +36,48 @@ void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[
     }
 }
 
+void fr_sfs_shading(const double sh[3][FR_SH_COUNT], const float n[3], double S[3]) {
+    double nd[3] = {n[0], n[1], n[2]}, y[FR_SH_COUNT];
+    fr_sh_basis(nd, y);
+    shading_at(sh, y, S);
+}
+
+enum { NL = FR_SH_COUNT * (FR_SH_COUNT + 1) / 2, /* y y^T's lower triangle, packed */
+       NB = FR_SH_COUNT + NL };                   /* a pixel's basis y, then y y^T */
+
+/* Pixel i's SH basis y and the packed y y^T into out (NB). */
+static void basis_products(const float *normals, int i, double *out) {
+    double nd[3] = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]}, *y = out, *yy = out + FR_SH_COUNT;
+    fr_sh_basis(nd, y);
+    for (int k = 0, h = 0; k < FR_SH_COUNT; k++)
+        for (int l = 0; l <= k; l++, h++) yy[h] = y[k] * y[l];
+}
+
+/* The basis and its products (basis_products) of every pixel the moments can weigh (in the mask,
+ * a positive weight), computed once for the fit's rounds, which reweigh the same pixels: slot[i]
+ * its place in the returned array (NB per pixel), -1 for the others. NULL when out of memory (the
+ * rounds compute them then). */
+static double *basis_cache(int n, const uint8_t *mask, const float *normals, const float *wt, int *slot) {
+    int m = 0;
+    for (int i = 0; i < n; i++) slot[i] = (!mask || mask[i]) && (!wt || wt[i] > 0) ? m++ : -1;
+    double *c = malloc(sizeof(double) * NB * ((size_t)m + 1));
+    if (!c) return NULL;
+    for (int i = 0; i < n; i++)
+        if (slot[i] >= 0) basis_products(normals, i, c + NB * (size_t)slot[i]);
+    return c;
+}
+
 /* Per channel the weighted moments M = sum w a^2 Y Y^T and b = sum w a I Y. The lower triangle is
  * summed packed (45 running sums per channel, each over the pixels in order), a chunk of pixels
  * at a time (their products y y^T and weights gathered, then each run of sums over the chunk in
- * registers: fr_add_weighted_rows), then unpacked. */
+ * registers: fr_add_weighted_rows), then unpacked. cache (may be NULL) and slot: basis_cache's. */
 static void moments(int n, const uint8_t *mask, const float *I, const float *albedo, const float *normals,
-                    const float *wt, const float *robust, double M[3][FR_SH_COUNT * FR_SH_COUNT],
-                    double b[3][FR_SH_COUNT]) {
-    enum { NL = FR_SH_COUNT * (FR_SH_COUNT + 1) / 2, CHUNK = 32 };
+                    const float *wt, const float *robust, const double *cache, const int *slot,
+                    double M[3][FR_SH_COUNT * FR_SH_COUNT], double b[3][FR_SH_COUNT]) {
+    enum { CHUNK = 32 };
     double L[3][NL], B[3][FR_SH_COUNT];
-    double yy[CHUNK][NL], ys[CHUNK][FR_SH_COUNT], wa2[3][CHUNK], wai[3][CHUNK]; /* the chunk */
+    double yb[CHUNK][NB], wa2[3][CHUNK], wai[3][CHUNK]; /* the chunk */
     const double *yy_rows[CHUNK], *ys_rows[CHUNK];
-    for (int j = 0; j < CHUNK; j++) yy_rows[j] = yy[j], ys_rows[j] = ys[j];
     memset(L, 0, sizeof L), memset(B, 0, sizeof B);
     int m = 0;
     for (int i = 0; i <= n; i++) {
@@ -63,10 +92,10 @@ static void moments(int n, const uint8_t *mask, const float *I, const float *alb
         if (mask && !mask[i]) continue;
         double w = (wt ? wt[i] : 1.0) * (robust ? robust[i] : 1.0);
         if (!(w > 0)) continue;
-        double nd[3] = {normals[3 * i], normals[3 * i + 1], normals[3 * i + 2]}, *y = ys[m];
-        fr_sh_basis(nd, y);
-        for (int k = 0, h = 0; k < FR_SH_COUNT; k++)
-            for (int l = 0; l <= k; l++, h++) yy[m][h] = y[k] * y[l];
+        const double *y = yb[m];
+        if (cache && slot[i] >= 0) y = cache + NB * (size_t)slot[i];
+        else basis_products(normals, i, yb[m]);
+        ys_rows[m] = y, yy_rows[m] = y + FR_SH_COUNT;
         for (int c = 0; c < 3; c++) {
             double a = albedo[3 * i + c];
             wa2[c][m] = w * a * a, wai[c][m] = w * a * I[3 * i + c];
@@ -210,11 +239,13 @@ static frig_status full_fit(frig_ctx *ctx, const double M[3][FR_SH_COUNT * FR_SH
     return FRIG_OK;
 }
 
-/* Relative residual |I - a S| / |a S| (RMS over the channels) at pixel i. */
+/* Relative residual |I - a S| / |a S| (RMS over the channels) at pixel i; y its SH basis (NULL:
+ * computed here). */
 static double residual(const double sh[3][FR_SH_COUNT], const float *I, const float *albedo, const float *normals,
-                       int i) {
+                       int i, const double *y) {
     double S[3], num = 0, den = 0;
-    fr_sfs_shading(sh, normals + 3 * (size_t)i, S);
+    if (y) shading_at(sh, y, S);
+    else fr_sfs_shading(sh, normals + 3 * (size_t)i, S);
     for (int c = 0; c < 3; c++) {
         double m = albedo[3 * i + c] * S[c], d = I[3 * i + c] - m;
         num += d * d, den += m * m;
@@ -227,15 +258,17 @@ frig_status fr_sfs_fit_lighting(frig_ctx *ctx, int n, const uint8_t *mask, const
     float *robust = malloc(sizeof(float) * (size_t)(n + 1)), *r = malloc(sizeof(float) * (size_t)(n + 1));
     double *res = malloc(sizeof(double) * (size_t)(n + 1)); /* each pixel's residual, for its weight */
     double (*M)[FR_SH_COUNT * FR_SH_COUNT] = malloc(sizeof(double) * 3 * FR_SH_COUNT * FR_SH_COUNT);
+    int *slot = malloc(sizeof(int) * (size_t)(n + 1));
     double b[3][FR_SH_COUNT], prior[3][FR_SH_COUNT];
-    if (!robust || !r || !res || !M) {
-        free(robust), free(r), free(res), free(M);
+    if (!robust || !r || !res || !M || !slot) {
+        free(robust), free(r), free(res), free(M), free(slot);
         return fr_nomem(ctx, "the lighting fit");
     }
     for (int i = 0; i < n; i++) robust[i] = 1.0f;
+    double *cache = basis_cache(n, mask, normals, weights, slot);
     frig_status s = FRIG_OK;
     for (int round = 0; round < IRLS_ROUNDS && !s; round++) {
-        moments(n, mask, I, albedo, normals, weights, robust, M, b);
+        moments(n, mask, I, albedo, normals, weights, robust, cache, slot, M, b);
         best_directional((const double (*)[FR_SH_COUNT * FR_SH_COUNT])M, (const double (*)[FR_SH_COUNT])b, prior);
         s = full_fit(ctx, (const double (*)[FR_SH_COUNT * FR_SH_COUNT])M, (const double (*)[FR_SH_COUNT])b,
                      (const double (*)[FR_SH_COUNT])prior, sh);
@@ -243,7 +276,7 @@ frig_status fr_sfs_fit_lighting(frig_ctx *ctx, int n, const uint8_t *mask, const
         int m = 0;
         for (int i = 0; i < n; i++) {
             if (mask && !mask[i]) continue;
-            res[i] = residual(sh, I, albedo, normals, i);
+            res[i] = residual(sh, I, albedo, normals, i, cache && slot[i] >= 0 ? cache + NB * (size_t)slot[i] : NULL);
             r[m++] = (float)res[i];
         }
         if (m < 10) break;
@@ -255,6 +288,6 @@ frig_status fr_sfs_fit_lighting(frig_ctx *ctx, int n, const uint8_t *mask, const
             robust[i] = u < 1 ? (float)((1 - u * u) * (1 - u * u)) : 0.0f;
         }
     }
-    free(robust), free(r), free(res), free(M);
+    free(robust), free(r), free(res), free(M), free(slot), free(cache);
     return s;
 }
