@@ -175,7 +175,7 @@ typedef enum frig_param {
 
     /* sfs (section 5.1, Algorithms 4-5; docs/sfs.md) */
     FRIG_PARAM_SFS_FACE_PX = 600,           /* the face's longer side in the crop at most, pixels (default 160) */
-    FRIG_PARAM_SFS_ROUNDS = 601,            /* rounds of the shape shared by all photos (default 4) */
+    FRIG_PARAM_SFS_ROUNDS = 601,            /* rounds of the shape shared by all photos (default 8) */
     FRIG_PARAM_SFS_ITERATIONS = 602,        /* Gauss-Newton iterations of each photo's depth (default 1) */
     FRIG_PARAM_SFS_W_NORMAL = 604,          /* smoothness of the normals' change (default 1) */
     FRIG_PARAM_SFS_W_ANCHOR = 605,          /* eq. 5.13: depth held to the reference depth (default 1000) */
@@ -192,16 +192,16 @@ typedef enum frig_param {
     FRIG_PARAM_SFS_TRANSFER = 616,          /* Reinhard colour transfer of the albedo to each photo: 0 off, 1 means, 2 means and spreads (default 0) */
     FRIG_PARAM_SFS_W_PRIOR = 617,           /* normals held to the multi-view shape's normals (default 10) */
     FRIG_PARAM_SFS_SHAPE_SIZE = 618,        /* side of the UV grid of the shape shared by all photos (default 96) */
-    FRIG_PARAM_SFS_POSE_LEVELS = 619,       /* each photo's pose registered to the shared shape coarse to fine, levels (default 2; 0 off) */
+    FRIG_PARAM_SFS_POSE_LEVELS = 619,       /* each photo's pose registered to the shared shape coarse to fine, levels (default 1; 0 off) */
     FRIG_PARAM_SFS_POSE_SIGMA = 620,        /* the registration's finest blur, pixels at a 160-pixel face (default 2) */
     FRIG_PARAM_SFS_STEREO = 621,            /* the shared shape's multi-view term, the photos' own gradients (default 1; 0 off) */
     FRIG_PARAM_SFS_JOINT_ALBEDO = 622,      /* 1: the shared shape's albedo solved with the displacement (default 1) */
-    FRIG_PARAM_SFS_SHAPE_ITERATIONS = 623,  /* Gauss-Newton iterations of the shared shape per round (default 2) */
+    FRIG_PARAM_SFS_SHAPE_ITERATIONS = 623,  /* Gauss-Newton iterations of the shared shape per round (default 1) */
     FRIG_PARAM_SFS_SHAPE_SIGMA = 624,       /* the shared shape's residual scale, relative intensity (default 0.1) */
     FRIG_PARAM_SFS_JOINT_POSE = 625,        /* shading pose steps per photo after each shared-shape round (default 4) */
     FRIG_PARAM_SFS_JOINT_MIN_PHOTOS = 626,  /* fewer photos: the light shared solve, no registration (default 4; docs/sfs.md) */
     FRIG_PARAM_SFS_JOINT_MAX_PHOTOS = 627,  /* more photos: the light shared solve too, for time (default 120; 0: no limit) */
-    FRIG_PARAM_SFS_EXPRESSION_STEPS = 628,  /* each photo's expression steps per full shared round (default 2; 0 off) */
+    FRIG_PARAM_SFS_EXPRESSION_STEPS = 628,  /* each photo's expression steps per full shared round (default 1; 0 off) */
     FRIG_PARAM_SFS_EXPRESSION_PRIOR = 629,  /* refined expression weights held to the fit's (default 0.3) */
     FRIG_PARAM_SFS_EXPRESSION_SPARSE = 630, /* L1 on the refined expression weights (default 0.3) */
     FRIG_PARAM_SFS_CLOUD_REGION = 631,      /* the clouds' pixels: 2 the narrow face, the rest of the face region in

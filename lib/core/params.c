@@ -137,7 +137,7 @@ static const param_row rows[] = {
     /* sfs (docs/sfs.md) */
     {FRIG_PARAM_SFS_FACE_PX, "sfs.face_px", 128, 16, 4096, 1,
      "shape from shading works on a crop whose face (longer side) is at most this many pixels"},
-    {FRIG_PARAM_SFS_ROUNDS, "sfs.rounds", 4, 0, 20, 1,
+    {FRIG_PARAM_SFS_ROUNDS, "sfs.rounds", 8, 0, 20, 1,
      "rounds of the shape shared by all photos (albedo, displacement, lighting; Algorithm 4's outer loop); 0: none"},
     {FRIG_PARAM_SFS_ITERATIONS, "sfs.iterations", 1, 1, 100, 1, "Gauss-Newton iterations of each photo's depth"},
     {FRIG_PARAM_SFS_W_NORMAL, "sfs.w_normal", 1, 0, 1e9, 0,
@@ -174,7 +174,7 @@ static const param_row rows[] = {
      "weight holding each photo's normals to those of the shape recovered from all photos"},
     {FRIG_PARAM_SFS_SHAPE_SIZE, "sfs.shape_size", 96, 16, 2048, 1,
      "side of the UV grid on which the shape shared by all photos is solved (texels of the model's face layout)"},
-    {FRIG_PARAM_SFS_POSE_LEVELS, "sfs.pose_levels", 2, 0, 6, 1,
+    {FRIG_PARAM_SFS_POSE_LEVELS, "sfs.pose_levels", 1, 0, 6, 1,
      "each photo's pose registered to the shared shape and albedo, coarse to fine, with this many blur levels "
      "(photometric and occluding-contour terms; 0: the fit's poses)"},
     {FRIG_PARAM_SFS_POSE_SIGMA, "sfs.pose_sigma", 2, 0.5, 32, 0,
@@ -183,7 +183,7 @@ static const param_row rows[] = {
      "weight of the shared shape's multi-view term (each photo's own image gradient along a texel's path; 0 off)"},
     {FRIG_PARAM_SFS_JOINT_ALBEDO, "sfs.joint_albedo", 1, 0, 1, 1,
      "1: the shared shape's texel albedo solved with the displacement (Schur complement), 0: alternated"},
-    {FRIG_PARAM_SFS_SHAPE_ITERATIONS, "sfs.shape_iterations", 2, 1, 100, 1,
+    {FRIG_PARAM_SFS_SHAPE_ITERATIONS, "sfs.shape_iterations", 1, 1, 100, 1,
      "Gauss-Newton iterations of the shared shape per round (the light solve takes 4)"},
     {FRIG_PARAM_SFS_SHAPE_SIGMA, "sfs.shape_sigma", 0.1, 1e-3, 1, 0,
      "the shared shape's residual scale, relative intensity of one standard deviation"},
@@ -196,7 +196,7 @@ static const param_row rows[] = {
     {FRIG_PARAM_SFS_JOINT_MAX_PHOTOS, "sfs.joint_max_photos", 120, 0, 1e6, 1,
      "with more photos to judge than this, the light shared solve too, for time: the full one's cost grows with the "
      "photos (a 100-photo frig synth subject: 33 CPU s against 18 for the stage, frig run 42 s on 2 cores); 0: no limit"},
-    {FRIG_PARAM_SFS_EXPRESSION_STEPS, "sfs.expression_steps", 2, 0, 50, 1,
+    {FRIG_PARAM_SFS_EXPRESSION_STEPS, "sfs.expression_steps", 1, 0, 50, 1,
      "Gauss-Newton steps of each photo's expression weights against its own shading and image gradients after each "
      "round of the full shared solve (the rig at the weights plus the shared displacement; the light solve keeps the fit's; "
      "0: the fit's weights everywhere)"},

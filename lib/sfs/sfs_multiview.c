@@ -932,11 +932,16 @@ typedef struct pose_texel {
     int ok;
 } pose_texel;
 
+/* The pose steps read every POSE_STRIDE-th texel: six unknowns need far fewer than a face's
+ * thousands, and at 2 the clouds of four frig synth subjects were as good as with all of them
+ * while the steps cost half (docs/sfs.md, "Eight rounds of one iteration"). */
+#define POSE_STRIDE 2
+
 /* Photo k's pose_texel for each texel into pt: update_pose's every evaluation reads them (the
- * same floats as computing them in each). */
+ * same floats as computing them in each); texels between the strides are not read. */
 static void pose_texels(const mv *s, int k, pose_texel *pt) {
     const photo_texels *p = &s->pt[k];
-    for (int t = 0; t < s->nt; t++) {
+    for (int t = 0; t < s->nt; t += POSE_STRIDE) {
         pose_texel *x = &pt[t];
         x->ok = p->w[t] > 0 && texel_normal(s, s->D, k, t, x->N, NULL);
         if (!x->ok) continue;
@@ -950,7 +955,7 @@ static double pose_terms(const mv *s, int k, const pose_texel *pt, const double 
     const photo_texels *p = &s->pt[k];
     if (H) memset(H, 0, 36 * sizeof *H), memset(g, 0, 6 * sizeof *g);
     double e = 0;
-    for (int t = 0; t < s->nt; t++) {
+    for (int t = 0; t < s->nt; t += POSE_STRIDE) {
         double q[3], Xc[3], xy[2];
         if (!pt[t].ok) continue;
         const double *N = pt[t].N, *P = pt[t].P;
