@@ -921,10 +921,6 @@ static void update_lighting(mv *s, int k, frig_ctx *ctx) {
     free(I), free(a), free(nc), free(w);
 }
 
-/* Photo k's pose term at (R, tv): the robust energy of its texels against the shared surface and
- * albedo, sampling the photo at each texel's projection; with H (6 x 6, row-major) and g (6)
- * when H is given, for the perturbation R' = exp([w]) R, t' = t + dt (w about the head's origin
- * in camera axes). */
 /* A texel's part of the pose term that does not depend on the pose: its unit normal and displaced
  * point (head frame); ok 0 when it has no weight or normal. */
 typedef struct pose_texel {
@@ -949,6 +945,10 @@ static void pose_texels(const mv *s, int k, pose_texel *pt) {
     }
 }
 
+/* Photo k's pose term at (R, tv): the robust energy of its texels (every POSE_STRIDE-th) against
+ * the shared surface and albedo, sampling the photo at each texel's projection; with H (6 x 6,
+ * row-major) and g (6) when H is given, for the perturbation R' = exp([w]) R, t' = t + dt (w about
+ * the head's origin in camera axes). */
 static double pose_terms(const mv *s, int k, const pose_texel *pt, const double R[9], const double tv[3], double *H,
                          double *g) {
     const fr_sfs_view *v = &s->views[k];
