@@ -67,16 +67,9 @@ static double max2(double a, double b) { return a > b ? a : b; }
 /* Pixel range [lo, hi] covering [mn, mx] in an axis of n pixels; 0 when empty. */
 static int pixel_range(double mn, double mx, int n, int *lo, int *hi) {
     double x = mn - BBOX_SLACK, y = mx + BBOX_SLACK;
-    if (fabs(x) < FR_INT_RANGE && fabs(y) < FR_INT_RANGE) { /* the same range in ints (floor_int.h) */
-        int ia = fr_ceil_int(x), ib = fr_floor_int(y);
-        if (ia < 0) ia = 0;
-        if (ib > n - 1) ib = n - 1;
-        if (ia > ib) return 0;
-        *lo = ia;
-        *hi = ib;
-        return 1;
-    }
-    double a = ceil(x), b = floor(y);
+    /* floor_int.h's cheaper ints where they fit: the same values as ceil and floor */
+    double a = fabs(x) < FR_INT_RANGE ? fr_ceil_int(x) : ceil(x);
+    double b = fabs(y) < FR_INT_RANGE ? fr_floor_int(y) : floor(y);
     if (a < 0.0) a = 0.0;
     if (b > n - 1) b = n - 1;
     if (!(a <= b)) return 0;
